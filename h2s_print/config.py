@@ -9,7 +9,8 @@ Paths inside a config are relative to the config file.
 
 Defaults chosen where DESIGN.md is silent (documented in README "Config reference"):
 
-* ``model.up``: ``y`` for glTF/GLB files, ``z`` otherwise; ``model.units``: ``mm``.
+* ``model.up``: ``y`` for glTF/GLB files, ``z`` otherwise; ``model.units``: the file's own
+  (glTF: ``m`` unless its extras say otherwise; other formats: ``mm``).
 * ``model.parts.small``: parts whose box diagonal is below ``min_size`` (default 0.01) of the
   model's, or that have no area, are ``merge``\\ d into the nearest part (default), ``drop``\\ ped,
   or ``keep``\\ t.
@@ -69,13 +70,14 @@ class ModelSpec:
     Attributes:
         path: the model file or folder (absolute, resolved against the config's folder).
         up: ``x``, ``y`` or ``z``: the model file's up axis; ``None`` means the format default.
-        units: ``mm``, ``cm``, ``m`` or ``in``.
+        units: ``mm``, ``cm``, ``m`` or ``in``; ``None`` means the file's own (glTF extras
+            ``units`` when present, else ``m`` for glTF by its specification and ``mm`` otherwise).
         parts: regrouping of parts.
     """
 
     path: Path
     up: str | None = None
-    units: str = "mm"
+    units: str | None = None
     parts: PartsSpec = field(default_factory=PartsSpec)
 
 
@@ -416,7 +418,7 @@ def _model(node: _Node, base: Path) -> ModelSpec:
     return ModelSpec(
         path=(base / rel).resolve(),
         up=node.get("up", lambda n: n.choice(("x", "y", "z")), None),
-        units=node.get("units", lambda n: n.choice(UNITS), "mm"),
+        units=node.get("units", lambda n: n.choice(UNITS), None),
         parts=node.get("parts", _parts, PartsSpec()),
     )
 

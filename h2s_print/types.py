@@ -201,3 +201,102 @@ class Camera:
         """(n,) depth of model points along the optical axis, model units."""
         pts = np.asarray(points, dtype=float).reshape(-1, 3)
         return pts @ self.projection_mm[2, :3] + self.projection_mm[2, 3]
+
+
+# ----------------------------------------------------------------- per-view values (stages 6-8)
+
+
+@dataclass(frozen=True, slots=True)
+class VanishingPoint:
+    """Where the lines of one model axis meet on the sheet.
+
+    Attributes:
+        axis: 0, 1 or 2.
+        at_infinity: True when the axis is parallel to the sheet (its lines stay parallel).
+        xy_mm: the point on the sheet (may lie far outside it), ``None`` at infinity.
+        direction_mm: unit 2D direction of the axis's lines on the sheet (always set; for a
+            finite VP it points from the sheet's centre toward the VP).
+    """
+
+    axis: int
+    at_infinity: bool
+    xy_mm: tuple[float, float] | None
+    direction_mm: tuple[float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class Guide:
+    """One straight guide line, defined in 3D and projected (DESIGN.md §3 ``guides``).
+
+    Attributes:
+        id: stable id; equivalent guides share one id (merged).
+        status: ``new`` (drawn orange) in the step that introduces it, ``reused`` (blue) when a
+            later step uses it again.
+        from3d, to3d: end points, model units.
+        from_mm, to_mm: their projections on the sheet, mm.
+        role: ``construction`` (intermediate line, novice only), ``guide`` (the resulting guide
+            line, novice and apprentice) or ``vanishing`` (a line toward a vanishing point).
+    """
+
+    id: str
+    status: str
+    from3d: Vec3
+    to3d: Vec3
+    from_mm: tuple[float, float]
+    to_mm: tuple[float, float]
+    role: str = "guide"
+
+
+@dataclass(frozen=True, slots=True)
+class Stroke:
+    """A line of the drawing itself (not a guide): scaffold edge, ellipse or contour.
+
+    Attributes:
+        kind: ``scaffold`` (primitive edge), ``ellipse`` or ``contour``.
+        part: the part it belongs to.
+        points3d: polyline vertices, model units.
+        points_mm: their projections on the sheet, mm.
+    """
+
+    kind: str
+    part: str
+    points3d: tuple[Vec3, ...]
+    points_mm: tuple[tuple[float, float], ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Step:
+    """One instruction of a tutorial (DESIGN.md §3 ``steps``).
+
+    Attributes:
+        index: 1-based position in the tutorial.
+        part: the part drawn, or ``None`` for steps not about one part (e.g. the horizon).
+        kind: ``primitive``, ``ellipse``, ``contour`` (and ``basic`` in the control tutorial).
+        text: the instruction sentence (from ``templates/``).
+        eyeball: True when the part is placed by eye, without intermediate guides.
+        guides: guides shown in this step: new ones and earlier ones reused here.
+        strokes: the new drawing lines of this step.
+        alive: ids of every guide still shown at this step (earlier guides not yet retired),
+            including this step's.
+    """
+
+    index: int
+    part: str | None
+    kind: str
+    text: str
+    eyeball: bool
+    guides: tuple[Guide, ...]
+    strokes: tuple[Stroke, ...]
+    alive: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ViewPlan:
+    """Everything about one (view, level): the camera and the ordered steps."""
+
+    name: str
+    level: str
+    paper_mm: tuple[float, float]
+    camera: Camera
+    vanishing_points: tuple[VanishingPoint, ...]
+    steps: tuple[Step, ...]
