@@ -1,0 +1,57 @@
+"""User-visible wording, read from the top-level ``templates/`` folder.
+
+Every instruction sentence and page label lives in YAML files under ``templates/`` (one
+place to reword or translate).  An installed wheel carries them as ``h2s_print/templates``
+(hatchling ``force-include``); a source checkout reads the repository's folder.
+
+Templates are ``str.format`` strings: ``text("steps", "primitive.first", part="body")``.
+"""
+
+from __future__ import annotations
+
+import functools
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from .errors import H2SError
+
+
+def _folder() -> Path:
+    packaged = resources.files("h2s_print") / "templates"
+    if packaged.is_dir():
+        return Path(str(packaged))
+    return Path(__file__).resolve().parents[1] / "templates"
+
+
+@functools.lru_cache(maxsize=None)
+def load(name: str) -> dict[str, Any]:
+    """The parsed ``templates/<name>.yaml`` (cached; treat as read-only)."""
+    path = _folder() / f"{name}.yaml"
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError) as exc:
+        raise H2SError(f"{path}: cannot read template file: {exc}") from None
+    if not isinstance(data, dict):
+        raise H2SError(f"{path}: expected a mapping of template keys")
+    return data
+
+
+def lookup(name: str, key: str) -> Any:
+    """The raw value at dotted ``key`` in ``templates/<name>.yaml``."""
+    node: Any = load(name)
+    for piece in key.split("."):
+        if not isinstance(node, dict) or piece not in node:
+            raise KeyError(f"templates/{name}.yaml has no key {key!r}")
+        node = node[piece]
+    return node
+
+
+def text(name: str, key: str, **fields: Any) -> str:
+    """Format the template string at ``key`` with ``fields``."""
+    template = lookup(name, key)
+    if not isinstance(template, str):
+        raise KeyError(f"templates/{name}.yaml: {key!r} is not a text template")
+    return template.format(**fields)
