@@ -1,0 +1,166 @@
+"""The model-level plan (stages 1-5) and the ``plan.json`` contract (DESIGN.md §3).
+
+Stages 1-5 depend only on the model and the solver settings, never on a view, so one
+:class:`Plan` serves every view and level of a tutorial.  ``plan_json`` writes exactly the
+contract's fields; other tools read them.
+
+Determinism: a plan.json depends only on the config and the model files, except
+``selection.seconds``, the measured solver wall time the contract asks for.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+from .config import ModelSpec, SolverSettings
+from .types import Model, Primitive, Relation, ViewPlan
+
+log = logging.getLogger(__name__)
+
+SCHEMA = "h2s-plan/1"
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Plan:
+    """Everything stages 1-5 produce for one model.
+
+    Attributes:
+        model: the loaded model.
+        primitives: one per part, in ``model.parts`` order.
+        relations: every relation found (``detail["preserved"]`` marks the kept ones).
+        candidates: every candidate (``h2s_print.candidates.Candidate``), sorted by id.
+        selection: the solver's answer (``h2s_print.select.Selection``).
+        settings: the solver settings used.
+    """
+
+    model: Model
+    primitives: tuple[Primitive, ...]
+    relations: tuple[Relation, ...]
+    candidates: tuple[Any, ...]
+    selection: Any
+    settings: SolverSettings
+
+    def primitive(self, part: str) -> Primitive:
+        for p in self.primitives:
+            if p.part == part:
+                return p
+        raise KeyError(part)
+
+    def chosen(self) -> dict[str, Any]:
+        """Selected candidate per part name."""
+        by_id = {c.id: c for c in self.candidates}
+        return {by_id[cid].part: by_id[cid] for cid in self.selection.chosen}
+
+
+def build_plan(spec: ModelSpec, settings: SolverSettings) -> Plan:
+    """Run stages 1-5: load, fit, relate, generate candidates, select."""
+    from .candidates import generate_candidates
+    from .fit import fit_primitives
+    from .load import load_model
+    from .relate import detect_relations
+    from .select import select_candidates
+
+    model = load_model(spec)
+    primitives = fit_primitives(model)
+    relations = detect_relations(primitives)
+    candidates = generate_candidates(primitives, relations, settings)
+    selection = select_candidates(candidates, relations, settings)
+    return Plan(model, primitives, relations, candidates, selection, settings)
+
+
+# ----------------------------------------------------------------------------- JSON
+
+
+def _vec(v: Sequence[float]) -> list[float]:
+    return [float(x) for x in v]
+
+
+def _box(box: Any) -> list[list[float]]:
+    return [_vec(box[0]), _vec(box[1])]
+
+
+def model_json(model: Model) -> dict[str, Any]:
+    """The contract's ``model`` entry."""
+    return {"source": model.source, "up": "z", "units": model.units,
+            "bounds": _box(model.bounds)}
+
+
+def part_json(primitive: Primitive) -> dict[str, Any]:
+    """One entry of the contract's ``parts``."""
+    return {
+        "name": primitive.part,
+        "primitive": {"type": primitive.type, "axis": primitive.axis,
+                      "box": _box(primitive.box)},
+        "residual": float(primitive.residual),
+    }
+
+
+def relation_json(relation: Relation) -> dict[str, Any]:
+    """One entry of the contract's ``relations``."""
+    return {"a": relation.a, "b": relation.b, "type": relation.type, "axis": relation.axis,
+            "tolerance": float(relation.tolerance), "detail": dict(relation.detail)}
+
+
+def view_json(view: ViewPlan) -> dict[str, Any]:
+    """One entry of the contract's ``views``."""
+    return {
+        "name": view.name,
+        "level": view.level,
+        "paper_mm": _vec(view.paper_mm),
+        "camera": {
+            "projection_mm": [_vec(row) for row in view.camera.projection_mm],
+            "position": _vec(view.camera.position),
+            "perspective": view.camera.perspective,
+        },
+        "vanishing_points": [
+            {"axis": vp.axis, "at_infinity": vp.at_infinity,
+             "xy_mm": None if vp.xy_mm is None else _vec(vp.xy_mm),
+             "direction_mm": _vec(vp.direction_mm)}
+            for vp in view.vanishing_points
+        ],
+        "steps": [_step_json(step) for step in view.steps],
+    }
+
+
+def _step_json(step: Any) -> dict[str, Any]:
+    out: dict[str, Any] = {
+        "index": step.index, "part": step.part, "kind": step.kind, "text": step.text,
+        "eyeball": step.eyeball,
+        "guides": [
+            {"id": g.id, "status": g.status, "role": g.role,
+             "from3d": _vec(g.from3d), "to3d": _vec(g.to3d),
+             "from_mm": _vec(g.from_mm), "to_mm": _vec(g.to_mm)}
+            for g in step.guides
+        ],
+        "alive": list(step.alive),
+    }
+    strokes = [s for s in step.strokes if s.kind != "contour"]
+    contours = [s for s in step.strokes if s.kind == "contour"]
+    out["strokes"] = [{"kind": s.kind, "part": s.part,
+                       "points3d": [_vec(p) for p in s.points3d],
+                       "points_mm": [_vec(p) for p in s.points_mm]} for s in strokes]
+    if step.kind == "contour":
+        out["polylines3d"] = [[_vec(p) for p in s.points3d] for s in contours]
+        out["polylines_mm"] = [[_vec(p) for p in s.points_mm] for s in contours]
+    return out
+
+
+def plan_json(plan: Plan, views: Sequence[ViewPlan] = ()) -> dict[str, Any]:
+    """The whole ``plan.json`` document (DESIGN.md §3)."""
+    return {
+        "schema": SCHEMA,
+        "model": model_json(plan.model),
+        "parts": [part_json(p) for p in plan.primitives],
+        "relations": [relation_json(r) for r in plan.relations],
+        "candidates": [c.to_json() for c in plan.candidates],
+        "selection": plan.selection.to_json(),
+        "views": [view_json(v) for v in views],
+    }
+
+
+def inspect_json(primitives: Sequence[Primitive], relations: Sequence[Relation]) -> dict[str, Any]:
+    """``h2s inspect --json``: the contract's ``parts`` and ``relations`` fields only."""
+    return {"parts": [part_json(p) for p in primitives],
+            "relations": [relation_json(r) for r in relations]}

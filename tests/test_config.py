@@ -1,0 +1,149 @@
+"""Config loading: values, defaults, and one-line errors naming file and key path."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from h2s_print.config import (BookConfig, PaperSpec, TutorialConfig, load_config,
+                              load_tutorial)
+from h2s_print.errors import ConfigError
+
+GOOD = """\
+title: Digital SLR camera
+model:
+  path: models/camera.glb
+  up: z
+  units: mm
+  parts:
+    merge: {body: [body_top, body_bottom]}
+    drop: [screw_*]
+views:
+  - name: front-left
+    azimuth_deg: 35
+    elevation_deg: 20
+    distance: 3.0
+    lens_mm: 50
+    perspective: two-point
+  - name: high
+    elevation_deg: 40
+    perspective: three-point
+levels: [novice, apprentice, master]
+paper: {size: A4, orientation: landscape, margin_mm: 12}
+solver: {formulation: quadratic, time_limit_s: 60, max_change: 0.10}
+"""
+
+
+def write(tmp_path: Path, name: str, text: str) -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def test_good_config_values(tmp_path):
+    cfg = load_config(write(tmp_path, "camera.yaml", GOOD))
+    assert isinstance(cfg, TutorialConfig)
+    assert cfg.name == "camera" and cfg.title == "Digital SLR camera"
+    # paths are relative to the config file, not the working directory
+    assert cfg.model.path == (tmp_path / "models" / "camera.glb").resolve()
+    assert cfg.model.up == "z" and cfg.model.units == "mm"
+    assert cfg.model.parts.merge == (("body", ("body_top", "body_bottom")),)
+    assert cfg.model.parts.drop == ("screw_*",)
+    assert [v.name for v in cfg.views] == ["front-left", "high"]
+    assert cfg.views[0].azimuth_deg == 35.0 and cfg.views[0].perspective == "two-point"
+    # unspecified view fields take their documented defaults
+    assert cfg.views[1].azimuth_deg == 35.0 and cfg.views[1].lens_mm == 50.0
+    assert cfg.levels == ("novice", "apprentice", "master")
+    assert cfg.solver.max_change == pytest.approx(0.10)
+    assert cfg.solver.formulation == "quadratic"
+
+
+def test_values_are_frozen(tmp_path):
+    cfg = load_tutorial(write(tmp_path, "camera.yaml", GOOD))
+    with pytest.raises(AttributeError):
+        cfg.title = "x"  # type: ignore[misc]
+
+
+@pytest.mark.parametrize(
+    "size, orientation, width, height",
+    [
+        ("A4", "landscape", 297.0, 210.0),  # ISO 216: 210 x 297 mm, turned
+        ("A4", "portrait", 210.0, 297.0),
+        ("A3", "landscape", 420.0, 297.0),  # A3 = two A4 side by side
+        ("Letter", "portrait", 215.9, 279.4),  # 8.5 x 11 in * 25.4 mm/in
+    ],
+)
+def test_paper_sizes(size, orientation, width, height):
+    paper = PaperSpec(size=size, orientation=orientation)
+    assert paper.width_mm == width and paper.height_mm == height
+
+
+@pytest.mark.parametrize(
+    "old, new, message",
+    [
+        ("elevation_deg: 40", "elevation_deg: high",
+         "camera.yaml: views[1].elevation_deg: expected a number, got 'high'"),
+        ("elevation_deg: 40", "elevation_deg: 95",
+         "camera.yaml: views[1].elevation_deg: must be <= 89, got 95"),
+        ("lens_mm: 50", "lense_mm: 50",
+         "camera.yaml: views[0].lense_mm: unknown key"),
+        ("perspective: three-point", "perspective: fisheye",
+         "camera.yaml: views[1].perspective: expected one of two-point, three-point, got 'fisheye'"),
+        ("levels: [novice, apprentice, master]", "levels: [novice, expert]",
+         "camera.yaml: levels[1]: expected one of novice, apprentice, master, basic, got 'expert'"),
+        ("size: A4", "size: A5", "camera.yaml: paper.size: expected one of A4, A3, Letter, got 'A5'"),
+        ("margin_mm: 12", "margin_mm: 2", "camera.yaml: paper.margin_mm: must be >= 5, got 2"),
+        ("max_change: 0.10", "max_change: -1", "camera.yaml: solver.max_change: must be > 0"),
+        ("formulation: quadratic", "formulation: gurobi",
+         "camera.yaml: solver.formulation: expected one of quadratic, linear"),
+        ("  - name: high", "  - name: front-left", "views[1].name: duplicate view name"),
+        ("distance: 3.0", "distance: 0.5", "camera.yaml: views[0].distance: must be > 1"),
+        ("title: Digital SLR camera", "titel: x", "camera.yaml: titel: unknown key"),
+        ("  up: z", "  up: w", "camera.yaml: model.up: expected one of x, y, z, got 'w'"),
+    ],
+)
+def test_errors_name_file_and_key_path(tmp_path, old, new, message):
+    assert old in GOOD
+    path = write(tmp_path, "camera.yaml", GOOD.replace(old, new, 1))
+    with pytest.raises(ConfigError) as info:
+        load_config(path)
+    text = str(info.value)
+    assert message in text
+    assert "\n" not in text  # one line
+
+
+def test_missing_required_keys(tmp_path):
+    with pytest.raises(ConfigError, match=r"^x\.yaml: views: missing \(required\)$"):
+        load_config(write(tmp_path, "x.yaml", "model: m.glb\n"))
+    with pytest.raises(ConfigError, match=r"^x\.yaml: empty config"):
+        load_config(write(tmp_path, "x.yaml", ""))
+
+
+def test_bad_yaml_and_missing_file(tmp_path):
+    with pytest.raises(ConfigError, match=r"^x\.yaml: line 2: invalid YAML"):
+        load_config(write(tmp_path, "x.yaml", "a: [1, 2\nb: c: d\n"))
+    with pytest.raises(ConfigError, match="file not found"):
+        load_config(tmp_path / "nope.yaml")
+
+
+def test_yaml_tags_are_never_executed(tmp_path):
+    evil = "title: !!python/object/apply:os.system ['touch pwned']\nmodel: m.glb\nviews: []\n"
+    with pytest.raises(ConfigError, match="invalid YAML"):
+        load_config(write(tmp_path, "x.yaml", evil))
+    assert not (tmp_path / "pwned").exists()
+
+
+def test_book_resolves_tutorials_and_rejects_itself(tmp_path):
+    write(tmp_path, "camera.yaml", GOOD)
+    book = load_config(write(tmp_path, "book.yaml", "title: B\ntutorials: [camera.yaml]\n"))
+    assert isinstance(book, BookConfig)
+    assert [t.name for t in book.tutorials] == ["camera"]
+    with pytest.raises(ConfigError, match=r"book\.yaml: tutorials\[0\]: 'book\.yaml' names this book"):
+        load_config(write(tmp_path, "book.yaml", "tutorials: [book.yaml]\n"))
+    with pytest.raises(ConfigError, match=r"tutorials\[1\]: 'mixer\.yaml': file not found"):
+        load_config(write(tmp_path, "book.yaml", "tutorials: [camera.yaml, mixer.yaml]\n"))
+    # errors inside a tutorial name that tutorial's file
+    write(tmp_path, "bad.yaml", GOOD.replace("lens_mm: 50", "lens_mm: fifty"))
+    with pytest.raises(ConfigError, match=r"^bad\.yaml: views\[0\]\.lens_mm"):
+        load_config(write(tmp_path, "book.yaml", "tutorials: [bad.yaml]\n"))
