@@ -14,6 +14,9 @@ Defaults chosen where DESIGN.md is silent (documented in README "Config referenc
 * ``model.parts.small``: parts whose box diagonal is below ``min_size`` (default 0.01) of the
   model's, or that have no area, are ``merge``\\ d into the nearest part (default), ``drop``\\ ped,
   or ``keep``\\ t.
+* PartNet folders (``result.json``): ``up: y`` and ``units: m`` like their GLB exports.
+* Regrouping runs drop -> merge -> rename; part names are made file-safe (characters outside
+  ``[A-Za-z0-9_.-]`` become ``_``; clashes are numbered ``wheel``, ``wheel.1`` ...).
 * ``levels``: ``[novice, apprentice, master]``; ``basic`` is the paper's control tutorial.
 """
 
