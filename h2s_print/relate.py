@@ -1,0 +1,137 @@
+"""Stage 3, *relate*: relations between pairs of primitives (paper §4.1, DESIGN.md §2.3).
+
+Every pair of fitted primitives (``custom`` ones excluded: they are unguided) is tested for
+
+* **coplanar** along an axis: a face of a's box and a face of b's box lie in one plane normal to
+  that axis (every lo/hi pairing is tested, so a leg whose top touches a table top's underside
+  is coplanar with it, and so are two boxes standing on one floor), **and** the two face
+  rectangles overlap or come within the tolerance of touching in that plane.  The second
+  condition is our choice: guides transfer only within a shared plane region, and it stops two
+  far-apart parts that merely happen to sit at one height from being called coplanar.
+* **coaxial** along an axis: both are rotational (cylinder or frustum) with that axis and their
+  axis lines (``detail["centre"]``) are within the tolerance of each other (Euclidean distance
+  across the axis).  ``detail = {"line": [u, v]}``, the mean of the two lines.
+* **bisector** along an axis: the mid-planes of the two boxes normal to that axis coincide.
+  ``detail = {"coord": mean mid-plane coordinate}``.
+
+Boxes are the primitives' axis-aligned boxes (a plane's box is its slab, a cylinder's the box
+around it), so the test is the same for every type.
+
+Tolerance: ``rel_tol × min(diagonal of a's box, diagonal of b's box)``, model units, kept in
+:attr:`Relation.tolerance`: relative to the *smaller* part so that a small part near a large
+one is not related by the large one's slack.
+
+Preservation: every relation is returned, and exactly one per related pair carries
+``detail["preserved"] = True``: the first in preference order bisector > coaxial > coplanar
+(:data:`types.RELATION_PREFERENCE`), then lowest axis, then ends (lo before hi, a's end first).
+
+Output order (deterministic): sorted by ``(a, b, RELATION_PREFERENCE[type], axis, a_end,
+b_end)`` with ``lo`` < ``hi``; so the preserved relation is the first of its pair.
+
+Implied relations: two coaxial primitives along axis k also have their box mid-planes across
+k within the tolerance; those two bisectors are *implied* by the coaxial relation (its axis line
+is exactly those two mid-planes), so they are not reported separately.  Otherwise the
+preference rule would always keep a bisector, a weaker relation, for a coaxial pair (the
+mixer's bowl and beater would only keep one mid-plane).  A bisector along k itself (the two
+parts' mid-heights coincide) is a different fact and is still reported.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from typing import Any, Sequence
+
+from .errors import ModelError
+from .types import RELATION_PREFERENCE, Primitive, Relation, box_diagonal
+
+log = logging.getLogger(__name__)
+
+#: Default relative tolerance (of the smaller part's box diagonal).
+REL_TOL = 0.02
+
+_ROTATIONAL = ("cylinder", "frustum")
+_ENDS = ("lo", "hi")
+
+
+def _faces_touch(a: Primitive, b: Primitive, axis: int, tol: float) -> bool:
+    """True when a's and b's box faces normal to ``axis`` overlap or are within ``tol`` in the plane."""
+    for k in range(3):
+        if k == axis:
+            continue
+        gap = max(a.box[0][k] - b.box[1][k], b.box[0][k] - a.box[1][k])
+        if gap > tol:
+            return False
+    return True
+
+
+def _pair_relations(a: Primitive, b: Primitive, rel_tol: float) -> list[tuple[tuple, Relation]]:
+    """All relations of one pair (a.part < b.part), each with its sort key."""
+    tol = rel_tol * min(box_diagonal(a.box), box_diagonal(b.box))
+    out: list[tuple[tuple, Relation]] = []
+
+    def add(kind: str, axis: int, detail: dict[str, Any], ends: tuple[int, int] = (0, 0)) -> None:
+        key = (a.part, b.part, RELATION_PREFERENCE[kind], axis, ends[0], ends[1])
+        out.append((key, Relation(a.part, b.part, kind, axis, tol, detail)))
+
+    coaxial_axis: int | None = None
+    if a.type in _ROTATIONAL and b.type in _ROTATIONAL and a.axis == b.axis:
+        (ua, va), (ub, vb) = a.detail["centre"], b.detail["centre"]
+        if math.hypot(ua - ub, va - vb) <= tol:
+            coaxial_axis = a.axis
+            add("coaxial", a.axis, {"line": [float((ua + ub) / 2), float((va + vb) / 2)]})
+    for axis in range(3):
+        # bisector (those across a coaxial pair's axis are implied by the coaxial relation)
+        mid_a = (a.box[0][axis] + a.box[1][axis]) / 2
+        mid_b = (b.box[0][axis] + b.box[1][axis]) / 2
+        if abs(mid_a - mid_b) <= tol and coaxial_axis in (None, axis):
+            add("bisector", axis, {"coord": float((mid_a + mid_b) / 2)})
+        # coplanar (every lo/hi pairing of the two boxes' faces normal to this axis)
+        if _faces_touch(a, b, axis, tol):
+            for ea in range(2):
+                for eb in range(2):
+                    ca, cb = a.box[ea][axis], b.box[eb][axis]
+                    if abs(ca - cb) <= tol:
+                        add("coplanar", axis, {"a_end": _ENDS[ea], "b_end": _ENDS[eb],
+                                               "coord": float((ca + cb) / 2)}, (ea, eb))
+    return out
+
+
+def detect_relations(
+    primitives: Sequence[Primitive], *, rel_tol: float = REL_TOL
+) -> tuple[Relation, ...]:
+    """Stage verb: every coplanar, coaxial and bisector relation between pairs of primitives.
+
+    Args:
+        primitives: fitted primitives, one per part (any order); ``custom`` ones are skipped.
+        rel_tol: unit-free; a pair's tolerance is ``rel_tol`` times the smaller of the two box
+            diagonals (model units).
+
+    Returns:
+        Relations with ``a < b``, sorted as the module docstring says; the first of each related
+        pair has ``detail["preserved"] = True``, the others ``False``.
+
+    Raises:
+        ModelError: two primitives carry the same part name.
+    """
+    if rel_tol < 0 or not math.isfinite(rel_tol):
+        raise ValueError(f"rel_tol must be a finite non-negative number, got {rel_tol}")
+    names = [p.part for p in primitives]
+    if len(set(names)) != len(names):
+        dup = sorted({n for n in names if names.count(n) > 1})
+        raise ModelError(f"primitives: part names must be unique, repeated: {', '.join(dup)}")
+    usable = sorted((p for p in primitives if p.type != "custom"), key=lambda p: p.part)
+    keyed: list[tuple[tuple, Relation]] = []
+    for i, a in enumerate(usable):
+        for b in usable[i + 1:]:
+            keyed.extend(_pair_relations(a, b, rel_tol))
+    keyed.sort(key=lambda kr: kr[0])
+    out: list[Relation] = []
+    previous: tuple[str, str] | None = None
+    for _, rel in keyed:
+        first = (rel.a, rel.b) != previous
+        previous = (rel.a, rel.b)
+        out.append(Relation(rel.a, rel.b, rel.type, rel.axis, rel.tolerance,
+                            {**rel.detail, "preserved": first}))
+    log.debug("%d relations between %d primitives", len(out), len(usable))
+    return tuple(out)

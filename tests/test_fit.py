@@ -1,0 +1,254 @@
+"""Stage 2, fit: synthetic parts of every type and axis come back as what they are."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from h2s_print.errors import ModelError
+from h2s_print.fit import fit_primitive, fit_primitives
+from h2s_print.types import Model, Part, box_diagonal, readonly
+
+
+def _part(vertices, faces, name: str = "p") -> Part:
+    return Part(name, readonly(vertices, np.float64), readonly(faces, np.int64))
+
+
+def _frustum_mesh(lo_half, hi_half, length: float) -> trimesh.Trimesh:
+    """Closed truncated pyramid along z from z=0 (half-sizes lo_half) to z=length (hi_half)."""
+    (a, b), (c, d) = lo_half, hi_half
+    v = [[-a, -b, 0], [a, -b, 0], [a, b, 0], [-a, b, 0],
+         [-c, -d, length], [c, -d, length], [c, d, length], [-c, d, length]]
+    f = [[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+         [1, 2, 6], [1, 6, 5], [2, 3, 7], [2, 7, 6], [3, 0, 4], [3, 4, 7]]
+    return trimesh.Trimesh(np.array(v, float), np.array(f), process=False)
+
+
+# Canonical shapes, axis along z: (mesh, type, true box lo, true box hi).
+def _canonical(kind: str):
+    if kind == "cuboid":
+        return trimesh.creation.box((1.0, 2.0, 3.0)), (-0.5, -1, -1.5), (0.5, 1, 1.5)
+    if kind == "cylinder":
+        return trimesh.creation.cylinder(0.5, 3.0, sections=64), (-0.5, -0.5, -1.5), (0.5, 0.5, 1.5)
+    if kind == "frustum":
+        m = _frustum_mesh((1.0, 0.6), (0.5, 0.3), 2.0)
+        return m, (-1, -0.6, 0), (1, 0.6, 2)
+    if kind == "plane":  # a 1.5 mm thick 200 x 150 mm board, in metres-ish units
+        return trimesh.creation.box((2.0, 1.5, 0.015)), (-1, -0.75, -0.0075), (1, 0.75, 0.0075)
+    raise ValueError(kind)
+
+
+def _moved(kind: str, axis: int, seed: int, noise: float = 0.001):
+    """The canonical shape with its axis moved to ``axis``, noisy, scaled and translated.
+
+    Returns the part, the true box and the permutation (new coordinate k = old perm[k]).
+    """
+    rng = np.random.default_rng(seed)
+    mesh, lo, hi = _canonical(kind)
+    others = [0, 1] if rng.random() < 0.5 else [1, 0]
+    perm = others[:axis] + [2] + others[axis:]  # perm[axis] == 2: old z lands on `axis`
+    scale = float(np.exp(rng.uniform(np.log(0.01), np.log(100.0))))
+    shift = rng.uniform(-10, 10, 3) * scale
+    v = np.asarray(mesh.vertices)[:, perm] * scale + shift
+    lo_t = np.array(lo)[perm] * scale + shift
+    hi_t = np.array(hi)[perm] * scale + shift
+    diag = float(np.linalg.norm(hi_t - lo_t))
+    # small noise: 0.1 % of the diagonal, on (subdivided) vertices
+    tm = trimesh.Trimesh(v, mesh.faces, process=False)
+    if noise:
+        tm = trimesh.Trimesh(*trimesh.remesh.subdivide_to_size(tm.vertices, tm.faces, diag / 10),
+                             process=False)
+        tm.vertices += rng.normal(0, noise * diag, tm.vertices.shape)
+    return _part(tm.vertices, tm.faces), (lo_t, hi_t), perm, scale
+
+
+def _box_error(prim_box, truth) -> float:
+    """Largest coordinate difference between the boxes, as a fraction of the true diagonal."""
+    lo_t, hi_t = truth
+    diag = float(np.linalg.norm(hi_t - lo_t))
+    err = max(np.max(np.abs(np.array(prim_box[0]) - lo_t)), np.max(np.abs(np.array(prim_box[1]) - hi_t)))
+    return float(err) / diag
+
+
+@pytest.mark.parametrize("seed", [1, 2])
+@pytest.mark.parametrize("axis", [0, 1, 2])
+@pytest.mark.parametrize("kind", ["plane", "cuboid", "cylinder", "frustum"])
+def test_type_axis_and_box_survive_random_similarity(kind, axis, seed):
+    part, truth, perm, scale = _moved(kind, axis, seed)
+    prim = fit_primitive(part)
+    assert prim.type == kind
+    assert prim.axis == (None if kind == "cuboid" else axis)
+    # a plane's box is the part's bounding box: the noise (sigma 0.1 %) moves it by ~0.3 %
+    assert _box_error(prim.box, truth) < 0.01
+    if kind == "cylinder":
+        assert prim.detail["radius"] == pytest.approx(0.5 * scale, rel=0.01)
+        cu, cv = prim.detail["centre"]
+        mid = (truth[0] + truth[1]) / 2
+        others = [k for k in range(3) if k != axis]
+        assert abs(cu - mid[others[0]]) < 0.01 * 0.5 * scale
+        assert abs(cv - mid[others[1]]) < 0.01 * 0.5 * scale
+    if kind == "frustum":
+        # old x, y half-sizes land on the new (u, v) in increasing axis order
+        others = [k for k in range(3) if k != axis]
+        old = [perm[k] for k in others]  # which old coordinate each of u, v is
+        lo_half = np.array([1.0, 0.6])[old] * scale
+        hi_half = np.array([0.5, 0.3])[old] * scale
+        assert np.allclose(prim.detail["lo_half"], lo_half, rtol=0.02)
+        assert np.allclose(prim.detail["hi_half"], hi_half, rtol=0.02)
+
+
+def test_exact_box_fits_exactly():
+    prim = fit_primitive(_part(*_as_arrays(trimesh.creation.box((1.0, 2.0, 3.0)))))
+    assert prim.type == "cuboid" and prim.axis is None
+    assert prim.residual < 1e-6
+    assert np.allclose(prim.box, ((-0.5, -1, -1.5), (0.5, 1, 1.5)), atol=1e-6)
+
+
+def _as_arrays(mesh):
+    return np.asarray(mesh.vertices), np.asarray(mesh.faces)
+
+
+def test_thin_disc_is_a_plane_along_its_normal():
+    # radius 1, thickness 0.02: 1 % of its diameter, under the 1/25 plane threshold
+    disc = trimesh.creation.cylinder(1.0, 0.02, sections=64)
+    v = np.asarray(disc.vertices)[:, [2, 0, 1]] + (0.3, 0, 0)  # normal along x, mid-plane x=0.3
+    prim = fit_primitive(_part(v, disc.faces))
+    assert prim.type == "plane" and prim.axis == 0
+    assert prim.detail["offset"] == pytest.approx(0.3, abs=1e-3)
+    assert prim.box[0][0] == pytest.approx(0.29) and prim.box[1][0] == pytest.approx(0.31)
+
+
+def test_thick_disc_is_a_cylinder():
+    # a coin 1/10 as thick as wide is not a thin slab (1/10 > 1/25)
+    prim = fit_primitive(_part(*_as_arrays(trimesh.creation.cylinder(1.0, 0.2, sections=64))))
+    assert prim.type == "cylinder" and prim.axis == 2
+
+
+def test_thin_strip_is_not_a_plane():
+    # 9 x 25 x 368: thin compared with its length, not with its 25-wide side (9/25 > 1/25)
+    prim = fit_primitive(_part(*_as_arrays(trimesh.creation.box((0.009, 0.025, 0.368)))))
+    assert prim.type == "cuboid"
+
+
+def test_long_box_is_not_a_cylinder():
+    rng = np.random.default_rng(5)
+    box = trimesh.creation.box((1.0, 1.0, 10.0))
+    v, f = trimesh.remesh.subdivide_to_size(box.vertices, box.faces, 1.0)
+    v = v + rng.normal(0, 0.005, v.shape)
+    prim = fit_primitive(_part(v, f))
+    assert prim.type == "cuboid"
+
+
+def test_long_dowel_is_a_cylinder():
+    # 10:1 dowel: a square box misses it by ~7 % of the radius, under 1 % of the diagonal
+    prim = fit_primitive(_part(*_as_arrays(trimesh.creation.cylinder(0.5, 10.0, sections=32))))
+    assert prim.type == "cylinder" and prim.axis == 2
+    assert prim.detail["radius"] == pytest.approx(0.5, rel=0.01)
+
+
+def test_octagonal_prism_is_a_cylinder_and_square_prism_a_cuboid():
+    octa = fit_primitive(_part(*_as_arrays(trimesh.creation.cylinder(1.0, 2.0, sections=8))))
+    assert octa.type == "cylinder" and octa.axis == 2
+    # the least-squares radius lies between the octagon's inradius cos(22.5°)=0.924 and 1
+    assert 0.924 < octa.detail["radius"] < 1.0
+    # trimesh's 4-sided "cylinder" is a diamond: turned by 45° it is an axis-aligned square prism
+    square = trimesh.creation.cylinder(1.0, 2.0, sections=4)
+    square.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 4, (0, 0, 1)))
+    square_prim = fit_primitive(_part(*_as_arrays(square)))
+    assert square_prim.type == "cuboid"
+    half = np.sqrt(0.5)  # the square's half side: circumradius 1 times cos 45°
+    assert np.allclose(square_prim.box, ((-half, -half, -1), (half, half, 1)), atol=1e-6)
+
+
+def test_sphere_is_not_misreported():
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
+    part = _part(*_as_arrays(sphere))
+    prim = fit_primitive(part)
+    assert prim.type in ("cuboid", "cylinder")  # a box or drum around it, never a plane/frustum
+    assert prim.residual > 0.02  # and it says the fit is poor
+    # its box is the least-squares one: a centred cube inside the bounding cube
+    lo, hi = np.array(prim.box[0]), np.array(prim.box[1])
+    assert np.allclose((lo + hi) / 2, 0, atol=0.01)
+    assert np.ptp(hi - lo) < 0.02 and np.all(hi <= 1.0) and np.all(lo >= -1.0)
+    custom = fit_primitive(part, custom_above=0.02)
+    assert custom.type == "custom" and custom.axis is None
+    assert custom.box == part.box
+    assert custom.residual > 0.02
+
+
+def test_three_dimensional_cross_is_custom():
+    bars = [trimesh.creation.box(e) for e in ((1, 0.1, 0.1), (0.1, 1, 0.1), (0.1, 0.1, 1))]
+    cross = trimesh.util.concatenate(bars)
+    prim = fit_primitive(_part(*_as_arrays(cross)))
+    assert prim.type == "custom" and prim.axis is None
+    assert prim.residual > 0.05
+
+
+@pytest.mark.parametrize("kind", ["cylinder", "frustum"])
+def test_residual_is_scale_and_translation_invariant(kind):
+    part, *_ = _moved(kind, 1, seed=3)
+    base = fit_primitive(part)
+    for scale, shift in ((1000.0, (5.0, -3.0, 2.0)), (1e-3, (0.0, 0.0, 0.0))):
+        v = np.asarray(part.vertices) * scale + np.array(shift) * scale
+        moved = fit_primitive(_part(v, part.faces))
+        assert moved.type == base.type and moved.axis == base.axis
+        assert moved.residual == pytest.approx(base.residual, rel=1e-6)
+        expect = np.array(base.box) * scale + np.array(shift) * scale
+        assert np.allclose(moved.box, expect, rtol=0, atol=1e-6 * box_diagonal(moved.box))
+
+
+def test_same_input_same_output():
+    part, *_ = _moved("frustum", 2, seed=4)
+    a, b = fit_primitive(part), fit_primitive(part)
+    assert a == b  # dataclass equality: type, axis, box, residual and detail, exactly
+
+
+def test_retessellation_does_not_change_the_fit():
+    box = trimesh.creation.box((1.0, 2.0, 3.0))
+    fine_v, fine_f = trimesh.remesh.subdivide_to_size(box.vertices, box.faces, 0.2)
+    coarse = fit_primitive(_part(box.vertices, box.faces))
+    fine = fit_primitive(_part(fine_v, fine_f))
+    assert fine.type == coarse.type == "cuboid"
+    assert np.allclose(fine.box, coarse.box, atol=1e-6)
+
+
+def test_fit_primitives_one_per_part_in_model_order():
+    parts = (
+        _part(*_as_arrays(trimesh.creation.box((1, 1, 1))), name="b"),
+        _part(*_as_arrays(trimesh.creation.cylinder(0.2, 2.0, sections=32)), name="a"),
+    )
+    prims = fit_primitives(Model("mem", "mm", parts))
+    assert [p.part for p in prims] == ["b", "a"]
+    assert [p.type for p in prims] == ["cuboid", "cylinder"]
+
+
+def test_part_without_faces_is_a_model_error():
+    with pytest.raises(ModelError, match="'empty'"):
+        fit_primitive(_part(np.zeros((3, 3)), np.zeros((0, 3)), name="empty"))
+    with pytest.raises(ModelError, match="'flat'"):  # three collinear points: no area
+        fit_primitive(_part([[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[0, 1, 2]], name="flat"))
+
+
+def test_shared_models_fit_as_expected(shared_models):
+    from h2s_print.load import read_path
+    from h2s_print.relate import detect_relations
+
+    # six 1/4" dowels standing in a plate (the file is z-up although glTF says y)
+    pins = fit_primitives(read_path(shared_models / "trimesh_pins_plate" / "pins.glb", up="z"))
+    dowels = [p for p in pins if p.part.startswith("dowel")]
+    assert len(dowels) == 6
+    assert all(p.type == "cylinder" and p.axis == 2 for p in dowels)
+    assert all(p.detail["radius"] == pytest.approx(6.35 / 2, rel=0.01) for p in dowels)  # 1/4"
+    # the oven's five push buttons face the front (-Y): cylinders along y
+    oven = fit_primitives(read_path(shared_models / "partnet_mobility_oven_101773"))
+    buttons = [p for p in oven if "button" in p.part]
+    assert len(buttons) == 5 and all(p.type == "cylinder" and p.axis == 1 for p in buttons)
+    # the Lack table: four square legs and a top, all boxes
+    lack = fit_primitives(read_path(shared_models / "ikea_table_lack" / "table_lack_0825.glb",
+                                    up="z"))
+    assert [p.type for p in lack] == ["cuboid"] * 5
+    for prims in (pins, oven, lack):
+        rels = detect_relations(prims)
+        pairs = {(r.a, r.b) for r in rels}
+        assert sum(r.detail["preserved"] for r in rels) == len(pairs)
