@@ -1,0 +1,835 @@
+"""Stage 4: candidate primitives, anchored off each other at easy ratios (paper §4.2, §4.4).
+
+``generate_candidates(primitives, relations, settings)`` returns every way of drawing each part
+that the selection stage (``h2s_print.select``) chooses from.  A :class:`Candidate` is an
+adjusted axis-aligned box of one part plus the candidates it hangs off (its parents) and the
+anchors that tie its interval ends to ratios of the parents' intervals.
+
+What "anchored" means (the plan.json contract, DESIGN.md §3)
+------------------------------------------------------------
+Every axis of a child is treated independently; each *end* (``lo``/``hi``) of the child's
+interval along an axis is either *anchored* or *free*.  An anchored end lies exactly at a ratio
+of a parent candidate's interval along the **same** axis::
+
+    child.box[e][axis] == parent.box[0][axis] + ratio * (parent.box[1][axis] - parent.box[0][axis])
+
+(computed with exactly this expression, so the equality holds in floating point), ``ratio`` one
+of the catalogue ratios of ``h2s_print.ratios`` (0, ¼, ⅓, ½, ⅔, ¾, 1 and the extrusions −1, −½,
+3/2, 2).  Per axis a candidate is one of:
+
+* **both ends anchored** (to the same parent or to two different parents, e.g. a shelf between
+  two side panels): the axis is fully guided;
+* **one end anchored, length kept**: the free end lies at the anchored end ± the input length;
+  the position is guided, the length is estimated by eye;
+* **unguided**: the input interval is kept (listed in ``unguided_axes``).
+
+An axis of zero length (a plane's normal) stays of zero length: both ends are anchored at the
+same value (two anchors with the same ratio), which guides it fully.
+
+Where anchors come from
+-----------------------
+Anchoring needs a *coplanar* relation between the child's part and the parent's part (guides
+transfer only within a plane).  For a coplanar relation normal to axis ``n``:
+
+* the child's in-plane axes are anchored at ratios of the parent's extents, constructed on the
+  parent's face in the shared plane (``face_normal = n``, ``face_side`` that face's end);
+* the normal axis ``n`` is anchored at ratios of the parent's extent along ``n`` (flush with
+  the shared plane at 0 or 1, or extruded/divided: "grip extended by ½ the depth of the body"),
+  constructed on the larger parent face that contains ``n`` (``face_side`` left to the view).
+
+Bisector and coaxial relations do not create anchors by themselves; they are *restored* (paper
+stage ii): when a candidate ``C`` of part ``i`` breaks a preserved relation with part ``j``, a
+candidate of ``j`` is made from ``j``'s input box, re-aligned to ``C`` (parent ``C``): for
+coplanar, its face is anchored to ``C``'s face (ratio 0 or 1) and the opposite face either moves
+with it (length kept) or stays; for bisector/coaxial, the relation's axes are anchored
+symmetrically at ``(r, 1 - r)`` of ``C`` (so the mid-planes coincide) or, failing that, simply
+centred on ``C`` (still unguided, but drawn after ``C``).
+
+Levels (paper stage iii): level 1 anchors off the input primitives ("originals"); level ``k``
+anchors off the best ``PARENTS_PER_PART`` candidates per part of level ``k - 1`` (pruning), and
+keeps only candidates that use at least one of them.  ``settings.depth`` levels are made.
+``Candidate.depth`` is 0 for originals and ``1 + max(parent depths)`` otherwise.
+
+A candidate that could never be selected is dropped: one whose ancestors include two candidates
+of one part or a candidate of its own part, or whose box breaks a preserved relation with an
+ancestor (ancestors are always selected with it).
+
+Costs (unit-free, raw; weights apply in the selection objective)
+----------------------------------------------------------------
+``L`` is the input length of an axis (for a zero-length axis: ``THIN_FRACTION`` of the part's
+largest extent).  Per axis: fully guided ``|Δlength|/L + |Δmidpoint|/L``; one end anchored
+``|Δlength|/L + |Δmidpoint|/L + 1`` (a free end costs half an unguided axis); unguided ``2``.
+``cost_adjust`` (E_d) is their sum; the original costs 6.  Candidates whose ``|Δlength|`` or
+``|Δmidpoint|`` exceeds ``settings.max_change × L`` on any axis are discarded.
+
+``cost_difficulty`` (E_e) = ``settings.guide_cost × Σ_faces lines × A_ref / A_face``: anchors
+on the same parent, axis and construction face share construction lines, counted once
+(``ratios.distinct_lines``); ``A_ref`` is the largest face area of any input primitive box and
+``A_face`` the parent's construction face area (floored at 1e-6 ``A_ref``).
+
+Ids
+---
+The original's id is its part name (``"body"``).  Others are
+``"<part><<parent parts joined by '+'>#<k>"``, e.g. ``"grip<body#3"`` or ``"lens<body+grip#1"``,
+``k`` counting from 1 per prefix in generation order, which is deterministic (parts sorted, each
+batch sorted by box and anchors).  The returned tuple is sorted by part, then original first,
+then generation order.
+"""
+
+from __future__ import annotations
+
+import itertools
+import logging
+import math
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Mapping, Sequence
+
+from .config import SolverSettings
+from .errors import SelectionError
+from .ratios import ALIGN_ONLY, CATALOGUE, distinct_lines, entry_for
+from .types import Box, Primitive, Relation
+
+log = logging.getLogger(__name__)
+
+ENDS = ("lo", "hi")
+#: Fraction of a part's largest extent used as ``L`` for its zero-length axes.
+THIN_FRACTION = 0.05
+#: An extent below this fraction of the box's largest extent counts as zero.
+DEGENERATE = 1e-9
+#: Anchored options kept per axis and parent part set before combining axes ...
+OPTIONS_PER_AXIS = 3
+#: ... and per axis in all (so at most (1 + AXIS_OPTIONS)^3 combinations per part and level).
+AXIS_OPTIONS = 6
+#: Candidates kept per part and level (best weighted cost first).
+CANDIDATES_PER_PART = 16
+#: Candidates per part (of the previous level) that may act as parents of the next level.
+PARENTS_PER_PART = 3
+#: Candidates per part whose broken relations are restored (stage ii), best first.
+RESTORE_PER_PART = 6
+#: Symmetric ratio pairs used to restore bisector and coaxial relations.
+SYMMETRIC = ((-1.0, 2.0), (-0.5, 1.5), (0.0, 1.0), (0.25, 0.75), (1 / 3, 2 / 3))
+_EPS = 1e-9
+
+
+# --------------------------------------------------------------------------- values
+
+
+@dataclass(frozen=True, slots=True)
+class Anchor:
+    """One anchored interval end (DESIGN.md §3 ``anchors``).
+
+    Attributes:
+        axis: 0, 1 or 2.
+        end: ``lo`` or ``hi``: which end of the child's interval.
+        parent: the parent candidate's id.
+        ratio: catalogue ratio of the parent's interval along ``axis`` (< 0 or > 1: extrusion).
+        guide_lines: lines of the ratio's construction (``ratios.entry_for(ratio)``).
+        face_normal: normal axis of the parent face the construction is drawn on (the face is
+            spanned by ``axis`` and the remaining axis).  ``face_normal == axis`` means the
+            parent is flat along ``axis`` and the end is aligned with its plane.
+        face_side: ``lo``/``hi``: which of the two parent faces normal to ``face_normal`` (the
+            shared coplanar plane), or ``None`` when either will do (the view decides).
+    """
+
+    axis: int
+    end: str
+    parent: str
+    ratio: float
+    guide_lines: int
+    face_normal: int
+    face_side: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        """The plan.json ``anchors`` entry (plus ``face_normal`` and ``face_side``)."""
+        return {"axis": self.axis, "end": self.end, "parent": self.parent,
+                "ratio": self.ratio, "guide_lines": self.guide_lines,
+                "face_normal": self.face_normal, "face_side": self.face_side}
+
+
+@dataclass(frozen=True, slots=True)
+class Candidate:
+    """One way to draw a part: its adjusted box and what it hangs off.
+
+    Attributes:
+        id: stable, readable id (module docstring), e.g. ``"grip<body#3"``.
+        part: the part's name.
+        box: adjusted axis-aligned box, model units.
+        original: True for the input primitive itself (all axes unguided).
+        parents: candidate ids that must be drawn (and selected) first, sorted.
+        depth: 0 for originals, else 1 + the largest parent depth.
+        anchors: one per anchored interval end, sorted by (axis, end).
+        unguided_axes: axes with no anchored end, sorted.
+        cost_adjust: E_d, unit-free (module docstring).
+        cost_difficulty: E_e, unit-free.
+        primitive_type: the part's primitive type (``cuboid`` ...).
+        axis: the primitive's axis (``None`` for cuboids and custom).
+    """
+
+    id: str
+    part: str
+    box: Box
+    original: bool
+    parents: tuple[str, ...]
+    depth: int
+    anchors: tuple[Anchor, ...]
+    unguided_axes: tuple[int, ...]
+    cost_adjust: float
+    cost_difficulty: float
+    primitive_type: str = "cuboid"
+    axis: int | None = None
+
+    def cost(self, weight_adjust: float = 1.0, weight_difficulty: float = 1.0) -> float:
+        """Weighted cost ``w_a E_d + w_d E_e`` (the selection objective's term)."""
+        return weight_adjust * self.cost_adjust + weight_difficulty * self.cost_difficulty
+
+    def to_json(self) -> dict[str, Any]:
+        """The plan.json ``candidates`` entry (plus ``primitive_type`` and ``axis``)."""
+        return {
+            "id": self.id,
+            "part": self.part,
+            "box": [list(self.box[0]), list(self.box[1])],
+            "original": self.original,
+            "parents": list(self.parents),
+            "depth": self.depth,
+            "anchors": [a.to_json() for a in self.anchors],
+            "unguided_axes": list(self.unguided_axes),
+            "cost_adjust": self.cost_adjust,
+            "cost_difficulty": self.cost_difficulty,
+            "primitive_type": self.primitive_type,
+            "axis": self.axis,
+        }
+
+
+# --------------------------------------------------------------------------- relations
+
+
+def _mid(box: Box, axis: int) -> float:
+    return 0.5 * (box[0][axis] + box[1][axis])
+
+
+def _close(x: float, y: float, tol: float) -> bool:
+    return abs(x - y) <= tol + _EPS * max(1.0, abs(x), abs(y))
+
+
+def relation_axes(relation: Relation) -> tuple[int, ...]:
+    """Axes whose intervals decide whether ``relation`` holds."""
+    if relation.type == "coaxial":
+        return tuple(a for a in range(3) if a != relation.axis)
+    return (relation.axis,)
+
+
+def _relation_axis_holds(relation: Relation, axis: int, a_lo: float, a_hi: float,
+                         b_lo: float, b_hi: float) -> bool:
+    """Does ``relation`` hold along ``axis`` between intervals of part a and part b?"""
+    if relation.type == "coplanar":
+        if axis != relation.axis:
+            return True
+        fa = a_lo if relation.detail.get("a_end", "lo") == "lo" else a_hi
+        fb = b_lo if relation.detail.get("b_end", "lo") == "lo" else b_hi
+        return _close(fa, fb, relation.tolerance)
+    if axis not in relation_axes(relation):
+        return True
+    return _close(0.5 * (a_lo + a_hi), 0.5 * (b_lo + b_hi), relation.tolerance)
+
+
+def relation_holds(relation: Relation, box_a: Box, box_b: Box) -> bool:
+    """True when ``relation`` holds between boxes of its parts ``a`` and ``b``.
+
+    coplanar: the two named faces' coordinates agree within ``relation.tolerance``; coaxial:
+    the box centres agree across the axis; bisector: the mid-planes along the axis agree.
+    """
+    return all(_relation_axis_holds(relation, ax, box_a[0][ax], box_a[1][ax],
+                                    box_b[0][ax], box_b[1][ax]) for ax in relation_axes(relation))
+
+
+def preserved_relations(relations: Iterable[Relation]) -> tuple[Relation, ...]:
+    """The relations selection must keep (``detail["preserved"]`` true), sorted."""
+    return tuple(sorted((r for r in relations if r.detail.get("preserved")),
+                        key=lambda r: (r.a, r.b, r.type, r.axis)))
+
+
+# --------------------------------------------------------------------------- generation
+
+
+@dataclass(frozen=True, slots=True)
+class _End:
+    """A possible position of one interval end, anchored at a parent's ratio."""
+
+    value: float
+    anchor: Anchor
+    parent_part: str
+    face_area: float
+
+
+@dataclass(frozen=True, slots=True)
+class _AxisOption:
+    """One way to place one axis interval of a child."""
+
+    lo: float
+    hi: float
+    anchors: tuple[Anchor, ...]
+    cost_adjust: float
+    parents: tuple[tuple[str, str], ...]  # (part, candidate id), sorted
+    areas: tuple[tuple[tuple[str, int, int, str | None], float], ...] = ()
+
+    @property
+    def unguided(self) -> bool:
+        return not self.anchors
+
+
+@dataclass
+class _Context:
+    """Mutable bookkeeping while generating (never escapes this module)."""
+
+    settings: SolverSettings
+    prims: dict[str, Primitive]
+    a_ref: float
+    coplanar: dict[str, list[tuple[str, Relation]]]
+    preserved: dict[str, list[tuple[str, Relation]]]
+    cands: dict[str, Candidate] = field(default_factory=dict)
+    order: list[str] = field(default_factory=list)
+    ancestry: dict[str, dict[str, str]] = field(default_factory=dict)
+    counters: dict[str, int] = field(default_factory=dict)
+    seen: set = field(default_factory=set)
+
+
+def _extent(box: Box, axis: int) -> float:
+    return box[1][axis] - box[0][axis]
+
+
+def _largest_extent(box: Box) -> float:
+    return max(_extent(box, a) for a in range(3))
+
+
+def _norm_length(box: Box, axis: int) -> float:
+    """``L`` of the cost and change limits (module docstring)."""
+    big = _largest_extent(box)
+    length = _extent(box, axis)
+    if length <= DEGENERATE * big:
+        return THIN_FRACTION * big
+    return length
+
+
+def _is_flat(box: Box, axis: int) -> bool:
+    return _extent(box, axis) <= DEGENERATE * _largest_extent(box)
+
+
+def _largest_face_area(box: Box) -> float:
+    e = [_extent(box, a) for a in range(3)]
+    return max(e[0] * e[1], e[1] * e[2], e[0] * e[2])
+
+
+def _face_for(pbox: Box, axis: int, normal: int | None,
+              side: str | None) -> tuple[int, str | None, float]:
+    """Construction face on a parent box for anchoring ``axis``: (face_normal, side, area).
+
+    ``normal`` is the shared coplanar plane's normal (``None``: no shared plane).
+    """
+    if _is_flat(pbox, axis):
+        return axis, None, _largest_face_area(pbox)
+    if normal is not None and normal != axis:
+        u, v = (a for a in range(3) if a != normal)
+        area = _extent(pbox, u) * _extent(pbox, v)
+        if area > DEGENERATE * _largest_face_area(pbox):
+            return normal, side, area
+    others = [a for a in range(3) if a != axis]
+    b = max(others, key=lambda a: (_extent(pbox, a), -a))
+    face_normal = next(a for a in others if a != b)
+    return face_normal, None, _extent(pbox, axis) * _extent(pbox, b)
+
+
+def _ratio_value(pbox: Box, axis: int, ratio: float) -> float:
+    # Exactly the contract's expression, so plan.json readers can check it with ==.
+    return pbox[0][axis] + ratio * (pbox[1][axis] - pbox[0][axis])
+
+
+def _axis_cost(orig: Box, axis: int, lo: float, hi: float, n_free_ends: int) -> float:
+    if n_free_ends >= 2:
+        return 2.0
+    length = _norm_length(orig, axis)
+    d_len = abs((hi - lo) - _extent(orig, axis)) / length
+    d_mid = abs(0.5 * (lo + hi) - _mid(orig, axis)) / length
+    return d_len + d_mid + float(n_free_ends)
+
+
+def _within_change(orig: Box, axis: int, lo: float, hi: float, max_change: float) -> bool:
+    length = _norm_length(orig, axis)
+    limit = max_change * length * (1 + 1e-9) + _EPS * max(1.0, abs(lo), abs(hi))
+    return (abs((hi - lo) - _extent(orig, axis)) <= limit
+            and abs(0.5 * (lo + hi) - _mid(orig, axis)) <= limit)
+
+
+class _Generator:
+    def __init__(self, ctx: _Context):
+        self.ctx = ctx
+        s = ctx.settings
+        self.w_a, self.w_d = s.weight_adjust, s.weight_difficulty
+
+    # ------------------------------------------------------------------ bookkeeping
+    def parts_of(self, cid: str) -> dict[str, str]:
+        return self.ctx.ancestry[cid]
+
+    def merged_ancestry(self, part: str, parent_ids: Iterable[str]) -> dict[str, str] | None:
+        """part -> candidate id over all ancestors, or None when inconsistent."""
+        merged: dict[str, str] = {}
+        for pid in parent_ids:
+            for p, c in self.ctx.ancestry[pid].items():
+                if p == part or merged.setdefault(p, c) != c:
+                    return None
+        return merged
+
+    def keeps_relations(self, part: str, box: Box, ancestry: Mapping[str, str]) -> bool:
+        for other, rel in self.ctx.preserved.get(part, ()):
+            cid = ancestry.get(other)
+            if cid is None:
+                continue
+            obox = self.ctx.cands[cid].box
+            ok = relation_holds(rel, box, obox) if rel.a == part else relation_holds(rel, obox, box)
+            if not ok:
+                return False
+        return True
+
+    def add_original(self, prim: Primitive) -> None:
+        cand = Candidate(id=prim.part, part=prim.part, box=prim.box, original=True, parents=(),
+                         depth=0, anchors=(), unguided_axes=(0, 1, 2), cost_adjust=6.0,
+                         cost_difficulty=0.0, primitive_type=prim.type, axis=prim.axis)
+        self.ctx.cands[cand.id] = cand
+        self.ctx.order.append(cand.id)
+        self.ctx.ancestry[cand.id] = {prim.part: cand.id}
+
+    def difficulty(self, anchors: Sequence[Anchor]) -> float:
+        groups: dict[tuple[str, int, int, str | None], list[float]] = {}
+        for a in anchors:
+            groups.setdefault((a.parent, a.axis, a.face_normal, a.face_side), []).append(a.ratio)
+        total = 0.0
+        for (pid, axis, normal, side), ratios in sorted(groups.items(), key=_group_key):
+            pbox = self.ctx.cands[pid].box
+            area = _face_area_of(pbox, axis, normal)
+            total += distinct_lines(ratios) * self.ctx.a_ref / max(area, 1e-6 * self.ctx.a_ref)
+        return self.ctx.settings.guide_cost * total
+
+    def build(self, part: str, box: Box, anchors: Sequence[Anchor], extra_parents: Sequence[str],
+              unguided: Sequence[int], cost_adjust: float) -> tuple[Candidate, dict] | None:
+        """A new (unnamed) candidate, or None when it can never be selected."""
+        parent_ids = sorted({a.parent for a in anchors} | set(extra_parents))
+        ancestry = self.merged_ancestry(part, parent_ids)
+        if ancestry is None or not self.keeps_relations(part, box, ancestry):
+            return None
+        prim = self.ctx.prims[part]
+        depth = 1 + max(self.ctx.cands[p].depth for p in parent_ids)
+        cand = Candidate(id="", part=part, box=box, original=False, parents=tuple(parent_ids),
+                         depth=depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
+                         unguided_axes=tuple(sorted(unguided)), cost_adjust=cost_adjust,
+                         cost_difficulty=self.difficulty(anchors), primitive_type=prim.type,
+                         axis=prim.axis)
+        return cand, ancestry
+
+    def commit(self, batch: list[tuple[Candidate, dict]]) -> list[Candidate]:
+        """Name, dedupe and store a batch of new candidates; returns the stored ones."""
+        # Same part, box and parents: keep the cheapest way of anchoring it.
+        best: dict[tuple, tuple[Candidate, dict]] = {}
+        for cand, ancestry in batch:
+            key = (cand.part, cand.box, cand.parents)
+            if key in self.ctx.seen:
+                continue
+            old = best.get(key)
+            if old is None or ((cand.cost(self.w_a, self.w_d), _cand_sort_key(cand))
+                               < (old[0].cost(self.w_a, self.w_d), _cand_sort_key(old[0]))):
+                best[key] = (cand, ancestry)
+        out: list[Candidate] = []
+        for key in sorted(best, key=lambda k: _cand_sort_key(best[k][0])):
+            cand, ancestry = best[key]
+            self.ctx.seen.add(key)
+            parts = sorted({self.ctx.cands[p].part for p in cand.parents})
+            prefix = f"{cand.part}<{'+'.join(parts)}"
+            k = self.ctx.counters.get(prefix, 0) + 1
+            self.ctx.counters[prefix] = k
+            named = _replace_id(cand, f"{prefix}#{k}")
+            self.ctx.cands[named.id] = named
+            self.ctx.order.append(named.id)
+            self.ctx.ancestry[named.id] = {**ancestry, cand.part: named.id}
+            out.append(named)
+        limit = self.ctx.settings.max_candidates
+        if len(self.ctx.cands) > limit:
+            raise SelectionError(
+                f"candidate generation made more than solver.max_candidates = {limit} "
+                f"candidates ({len(self.ctx.cands)} so far, {len(self.ctx.prims)} parts); "
+                "raise solver.max_candidates or lower solver.depth")
+        return out
+
+    # ------------------------------------------------------------------ stage (i)
+    def end_options(self, part: str, parent_pool: Mapping[str, Sequence[str]]
+                    ) -> list[dict[str, list[_End]]]:
+        """Per axis, per end: every anchored position within reach of the change limit."""
+        orig = self.ctx.prims[part].box
+        mc = self.ctx.settings.max_change
+        found: list[dict[tuple, _End]] = [dict() for _ in range(3)]
+        for parent_part, rel in self.ctx.coplanar.get(part, ()):
+            side = rel.detail.get("b_end" if rel.a == part else "a_end")
+            for pid in parent_pool.get(parent_part, ()):
+                if part in self.ctx.ancestry[pid]:
+                    continue  # would hang off a candidate of its own part
+                pbox = self.ctx.cands[pid].box
+                for axis in range(3):
+                    reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
+                    normal, fside, area = _face_for(pbox, axis, rel.axis, side)
+                    entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
+                    for entry in entries:
+                        value = _ratio_value(pbox, axis, entry.ratio)
+                        for e, end in enumerate(ENDS):
+                            if abs(value - orig[e][axis]) > reach:
+                                continue
+                            anchor = Anchor(axis, end, pid, entry.ratio, entry.guide_lines,
+                                            normal, fside)
+                            key = (end, pid, entry.ratio)
+                            old = found[axis].get(key)
+                            # prefer the larger face; on a tie, the shared plane itself
+                            if old is None or (area, fside is not None) > (
+                                    old.face_area, old.anchor.face_side is not None):
+                                found[axis][key] = _End(value, anchor, parent_part, area)
+        out: list[dict[str, list[_End]]] = []
+        for axis in range(3):
+            per_end: dict[str, list[_End]] = {"lo": [], "hi": []}
+            for key in sorted(found[axis], key=lambda k: (k[0], k[1], k[2])):
+                per_end[key[0]].append(found[axis][key])
+            out.append(per_end)
+        return out
+
+    def axis_options(self, part: str, axis: int, ends: Mapping[str, list[_End]]
+                     ) -> list[_AxisOption]:
+        orig = self.ctx.prims[part].box
+        mc = self.ctx.settings.max_change
+        lo0, hi0 = orig[0][axis], orig[1][axis]
+        length = hi0 - lo0
+        flat = _is_flat(orig, axis)
+        raw: list[tuple[float, float, tuple[_End, ...], int]] = []
+        if flat:
+            for opt in ends["lo"]:
+                twin = _End(opt.value, _with_end(opt.anchor, "hi"), opt.parent_part,
+                            opt.face_area)
+                raw.append((opt.value, opt.value, (opt, twin), 0))
+        else:
+            for lo_opt, hi_opt in itertools.product(ends["lo"], ends["hi"]):
+                if (lo_opt.parent_part == hi_opt.parent_part
+                        and lo_opt.anchor.parent != hi_opt.anchor.parent):
+                    continue
+                if hi_opt.value - lo_opt.value <= DEGENERATE * max(length, 1e-300):
+                    continue
+                raw.append((lo_opt.value, hi_opt.value, (lo_opt, hi_opt), 0))
+            for opt in ends["lo"]:
+                raw.append((opt.value, opt.value + length, (opt,), 1))
+            for opt in ends["hi"]:
+                raw.append((opt.value - length, opt.value, (opt,), 1))
+        options: list[_AxisOption] = []
+        for lo, hi, used, free in raw:
+            if not _within_change(orig, axis, lo, hi, mc):
+                continue
+            parents = tuple(sorted({(u.parent_part, u.anchor.parent) for u in used}))
+            if not self.axis_keeps(part, axis, lo, hi, parents):
+                continue
+            options.append(_AxisOption(
+                lo=lo, hi=hi, anchors=tuple(u.anchor for u in used),
+                cost_adjust=_axis_cost(orig, axis, lo, hi, free), parents=parents,
+                areas=tuple(((u.anchor.parent, axis, u.anchor.face_normal, u.anchor.face_side),
+                             u.face_area) for u in used)))
+        return options
+
+    def axis_keeps(self, part: str, axis: int, lo: float, hi: float,
+                   parents: Sequence[tuple[str, str]]) -> bool:
+        """False when this interval breaks a preserved relation with a parent along ``axis``."""
+        for ppart, pid in parents:
+            for other, rel in self.ctx.preserved.get(part, ()):
+                if other != ppart:
+                    continue
+                pbox = self.ctx.cands[pid].box
+                if rel.a == part:
+                    ok = _relation_axis_holds(rel, axis, lo, hi, pbox[0][axis], pbox[1][axis])
+                else:
+                    ok = _relation_axis_holds(rel, axis, pbox[0][axis], pbox[1][axis], lo, hi)
+                if not ok:
+                    return False
+        return True
+
+    def option_rank(self, opt: _AxisOption) -> tuple:
+        lines: dict[tuple, list[float]] = {}
+        area: dict[tuple, float] = {}
+        for a, (key, ar) in zip(opt.anchors, opt.areas):
+            lines.setdefault(key, []).append(a.ratio)
+            area[key] = ar
+        diff = sum(distinct_lines(r) * self.ctx.a_ref / max(area[k], 1e-6 * self.ctx.a_ref)
+                   for k, r in lines.items()) * self.ctx.settings.guide_cost
+        return (self.w_a * opt.cost_adjust + self.w_d * diff, opt.lo, opt.hi,
+                tuple(_anchor_key(a) for a in opt.anchors))
+
+    def anchor_part(self, part: str, parent_pool: Mapping[str, Sequence[str]],
+                    fresh: frozenset[str]) -> list[tuple[Candidate, dict]]:
+        """Stage (i) for one part: combine per-axis options into whole candidates.
+
+        Args:
+            fresh: candidate ids new at the previous level; when non-empty, only candidates
+                hanging off at least one of them are made.
+        """
+        prim = self.ctx.prims[part]
+        orig = prim.box
+        ends = self.end_options(part, parent_pool)
+        per_axis: list[list[_AxisOption]] = []
+        for axis in range(3):
+            options = sorted(self.axis_options(part, axis, ends[axis]), key=self.option_rank)
+            kept = _best_per_parent_set(options, fresh)
+            unguided = _AxisOption(orig[0][axis], orig[1][axis], (), 2.0, ())
+            per_axis.append([unguided] + kept)
+        made: list[tuple[Candidate, dict]] = []
+        for combo in itertools.product(*per_axis):
+            if all(o.unguided for o in combo):
+                continue
+            ids = {pid for o in combo for _, pid in o.parents}
+            if fresh and not ids & fresh:
+                continue
+            box = ((combo[0].lo, combo[1].lo, combo[2].lo), (combo[0].hi, combo[1].hi, combo[2].hi))
+            anchors = [a for o in combo for a in o.anchors]
+            unguided = [ax for ax, o in enumerate(combo) if o.unguided]
+            built = self.build(part, box, anchors, (), unguided, sum(o.cost_adjust for o in combo))
+            if built is not None:
+                made.append(built)
+        made.sort(key=lambda ca: (ca[0].cost(self.w_a, self.w_d), _cand_sort_key(ca[0])))
+        return made[:CANDIDATES_PER_PART]
+
+    # ------------------------------------------------------------------ stage (ii)
+    def restore(self, cand: Candidate) -> list[tuple[Candidate, dict]]:
+        """Candidates of related parts re-aligned to ``cand`` where it breaks a relation."""
+        made: list[tuple[Candidate, dict]] = []
+        anc = self.ctx.ancestry[cand.id]
+        for other, rel in self.ctx.preserved.get(cand.part, ()):
+            prim = self.ctx.prims[other]
+            if prim.type == "custom" or other in anc:
+                continue
+            obox = prim.box
+            here_is_a = rel.a == cand.part
+            holds = (relation_holds(rel, cand.box, obox) if here_is_a
+                     else relation_holds(rel, obox, cand.box))
+            if holds:
+                continue
+            per_axis: list[list[_AxisOption]] = []
+            for axis in range(3):
+                if axis in relation_axes(rel):
+                    per_axis.append(self.restore_axis(other, axis, rel, cand, here_is_a))
+                else:
+                    per_axis.append([_AxisOption(obox[0][axis], obox[1][axis], (), 2.0, ())])
+            for combo in itertools.product(*per_axis):
+                box = ((combo[0].lo, combo[1].lo, combo[2].lo),
+                       (combo[0].hi, combo[1].hi, combo[2].hi))
+                anchors = [a for o in combo for a in o.anchors]
+                unguided = [ax for ax, o in enumerate(combo) if o.unguided]
+                built = self.build(other, box, anchors, (cand.id,), unguided,
+                                   sum(o.cost_adjust for o in combo))
+                if built is not None:
+                    made.append(built)
+        return made
+
+    def restore_axis(self, part: str, axis: int, rel: Relation, cand: Candidate,
+                     cand_is_a: bool) -> list[_AxisOption]:
+        orig = self.ctx.prims[part].box
+        mc = self.ctx.settings.max_change
+        cbox = cand.box
+        lo0, hi0 = orig[0][axis], orig[1][axis]
+        length = hi0 - lo0
+        flat = _is_flat(orig, axis)
+        out: list[_AxisOption] = []
+        if rel.type == "coplanar":
+            cand_end = rel.detail.get("a_end" if cand_is_a else "b_end", "lo")
+            my_end = rel.detail.get("b_end" if cand_is_a else "a_end", "lo")
+            ratio = 0.0 if cand_end == "lo" else 1.0
+            if _is_flat(cbox, axis):
+                ratio = 0.0
+            value = _ratio_value(cbox, axis, ratio)
+            normal, side, _ = _face_for(cbox, axis, None, None)
+            lines = 1
+            anchor = Anchor(axis, my_end, cand.id, ratio, lines, normal, side)
+            if flat:
+                both = (_with_end(anchor, "lo"), _with_end(anchor, "hi"))
+                out.append(_AxisOption(value, value, both, _axis_cost(orig, axis, value, value, 0),
+                                       ()))
+            else:
+                shapes = [(value, value + length) if my_end == "lo" else (value - length, value),
+                          (value, hi0) if my_end == "lo" else (lo0, value)]
+                for lo, hi in shapes:
+                    if hi - lo > 0:
+                        out.append(_AxisOption(lo, hi, (anchor,),
+                                               _axis_cost(orig, axis, lo, hi, 1), ()))
+        else:
+            normal, side, _ = _face_for(cbox, axis, None, None)
+            if not flat and not _is_flat(cbox, axis):
+                for r_lo, r_hi in SYMMETRIC:
+                    lo = _ratio_value(cbox, axis, r_lo)
+                    hi = _ratio_value(cbox, axis, r_hi)
+                    anchors = (Anchor(axis, "lo", cand.id, r_lo, _lines(r_lo), normal, side),
+                               Anchor(axis, "hi", cand.id, r_hi, _lines(r_hi), normal, side))
+                    out.append(_AxisOption(lo, hi, anchors, _axis_cost(orig, axis, lo, hi, 0),
+                                           ()))
+            centre = _mid(cbox, axis)
+            out.append(_AxisOption(centre - 0.5 * length, centre + 0.5 * length, (), 2.0, ()))
+        kept = [o for o in out if _within_change(orig, axis, o.lo, o.hi, mc)]
+        kept.sort(key=lambda o: (o.cost_adjust, o.lo, o.hi))
+        return kept[:OPTIONS_PER_AXIS]
+
+    # ------------------------------------------------------------------ driver
+    def run(self) -> None:
+        ctx = self.ctx
+        for part in sorted(ctx.prims):
+            self.add_original(ctx.prims[part])
+        pool: dict[str, list[str]] = {p: [p] for p in ctx.prims if ctx.prims[p].type != "custom"}
+        fresh: frozenset[str] = frozenset()
+        for level in range(1, ctx.settings.depth + 1):
+            batch: list[tuple[Candidate, dict]] = []
+            for part in sorted(ctx.prims):
+                if ctx.prims[part].type == "custom" or _largest_extent(ctx.prims[part].box) <= 0:
+                    continue
+                batch.extend(self.anchor_part(part, pool, fresh))
+            anchored = self.commit(batch)
+            restored_batch: list[tuple[Candidate, dict]] = []
+            by_part: dict[str, list[Candidate]] = {}
+            for c in anchored:
+                by_part.setdefault(c.part, []).append(c)
+            for part in sorted(by_part):
+                best = sorted(by_part[part], key=lambda c: (c.cost(self.w_a, self.w_d),
+                                                            _cand_sort_key(c)))
+                for c in best[:RESTORE_PER_PART]:
+                    restored_batch.extend(self.restore(c))
+            restored = self.commit(restored_batch)
+            new = anchored + restored
+            log.debug("level %d: %d anchored, %d restored candidates", level, len(anchored),
+                      len(restored))
+            if not new:
+                break
+            # Prune before the next level: the best few new candidates per part act as parents.
+            grouped: dict[str, list[Candidate]] = {}
+            for c in new:
+                grouped.setdefault(c.part, []).append(c)
+            pool = {p: [p] for p in ctx.prims if ctx.prims[p].type != "custom"}
+            fresh_ids: set[str] = set()
+            for part, cs in grouped.items():
+                cs.sort(key=lambda c: (c.cost(self.w_a, self.w_d), _cand_sort_key(c)))
+                chosen = [c.id for c in cs[:PARENTS_PER_PART]]
+                pool[part] = pool[part] + chosen
+                fresh_ids.update(chosen)
+            fresh = frozenset(fresh_ids)
+
+
+def _best_per_parent_set(options: list[_AxisOption], fresh: frozenset[str]) -> list[_AxisOption]:
+    """Up to ``AXIS_OPTIONS`` options, taken round-robin over parent part sets.
+
+    ``options`` arrive ranked (cheapest first).  Taking the best of each parent set first (not
+    only the globally cheapest) keeps alternatives that hang off different parts, which
+    relation preservation and later levels need.  With ``fresh`` set, options using a fresh
+    parent form groups of their own.
+    """
+    rank_in_group: list[tuple[int, int]] = []
+    counts: dict[tuple, int] = {}
+    for i, opt in enumerate(options):
+        group = (tuple(sorted({p for p, _ in opt.parents})),
+                 bool(fresh) and any(pid in fresh for _, pid in opt.parents))
+        k = counts.get(group, 0)
+        counts[group] = k + 1
+        if k < OPTIONS_PER_AXIS:
+            rank_in_group.append((k, i))
+    rank_in_group.sort()
+    chosen = sorted(i for _, i in rank_in_group[:AXIS_OPTIONS])
+    return [options[i] for i in chosen]
+
+
+def _lines(ratio: float) -> int:
+    return entry_for(ratio).guide_lines
+
+
+def _face_area_of(pbox: Box, axis: int, normal: int) -> float:
+    if normal == axis:  # aligned with a flat parent's plane
+        return _largest_face_area(pbox)
+    u, v = (a for a in range(3) if a != normal)
+    return _extent(pbox, u) * _extent(pbox, v)
+
+
+def _group_key(item: tuple) -> tuple:
+    (pid, axis, normal, side), _ = item
+    return (pid, axis, normal, side or "")
+
+
+def _anchor_key(a: Anchor) -> tuple:
+    return (a.axis, a.end, a.parent, a.ratio, a.face_normal, a.face_side or "")
+
+
+def _cand_sort_key(c: Candidate) -> tuple:
+    return (c.part, c.parents, c.box, tuple(_anchor_key(a) for a in c.anchors))
+
+
+def _with_end(anchor: Anchor, end: str) -> Anchor:
+    return Anchor(anchor.axis, end, anchor.parent, anchor.ratio, anchor.guide_lines,
+                  anchor.face_normal, anchor.face_side)
+
+
+def _replace_id(c: Candidate, new_id: str) -> Candidate:
+    return Candidate(id=new_id, part=c.part, box=c.box, original=c.original, parents=c.parents,
+                     depth=c.depth, anchors=c.anchors, unguided_axes=c.unguided_axes,
+                     cost_adjust=c.cost_adjust, cost_difficulty=c.cost_difficulty,
+                     primitive_type=c.primitive_type, axis=c.axis)
+
+
+def _check_inputs(primitives: Sequence[Primitive], relations: Sequence[Relation]) -> None:
+    names = [p.part for p in primitives]
+    if len(set(names)) != len(names):
+        dup = sorted({n for n in names if names.count(n) > 1})
+        raise SelectionError(f"primitives: part {dup[0]!r} appears more than once")
+    for p in primitives:
+        lo, hi = p.box
+        if not all(math.isfinite(x) for x in (*lo, *hi)) or any(hi[a] < lo[a] for a in range(3)):
+            raise SelectionError(f"primitives: part {p.part!r} has an invalid box {p.box}")
+    known = set(names)
+    for r in relations:
+        if r.a not in known or r.b not in known:
+            missing = r.a if r.a not in known else r.b
+            raise SelectionError(f"relations: {r.type} {r.a}-{r.b} names unknown part {missing!r}")
+        if r.axis not in (0, 1, 2):
+            raise SelectionError(f"relations: {r.type} {r.a}-{r.b} has axis {r.axis!r}")
+
+
+def generate_candidates(primitives: Sequence[Primitive], relations: Sequence[Relation],
+                        settings: SolverSettings) -> tuple[Candidate, ...]:
+    """Every candidate of every part (originals included), deterministic and sorted.
+
+    Args:
+        primitives: one per part (``fit`` stage); custom primitives only get their original.
+        relations: all relations (``relate`` stage): coplanar ones drive anchoring, those with
+            ``detail["preserved"]`` are restored and never broken between a candidate and its
+            ancestors.
+        settings: ``max_change``, ``depth``, ``guide_cost``, weights (for pruning only) and
+            ``max_candidates``.
+
+    Returns:
+        candidates sorted by part, the original first, then in generation order.
+
+    Raises:
+        SelectionError: inconsistent input, or more than ``settings.max_candidates``.
+    """
+    primitives = tuple(primitives)
+    relations = tuple(relations)
+    _check_inputs(primitives, relations)
+    prims = {p.part: p for p in primitives}
+    a_ref = max((_largest_face_area(p.box) for p in primitives), default=0.0)
+    if a_ref <= 0:
+        a_ref = 1.0
+    coplanar: dict[str, list[tuple[str, Relation]]] = {}
+    preserved: dict[str, list[tuple[str, Relation]]] = {}
+    for r in sorted(relations, key=lambda r: (r.a, r.b, r.type, r.axis, sorted(
+            (k, str(v)) for k, v in r.detail.items()))):
+        if r.type == "coplanar":
+            coplanar.setdefault(r.a, []).append((r.b, r))
+            coplanar.setdefault(r.b, []).append((r.a, r))
+        if r.detail.get("preserved"):
+            preserved.setdefault(r.a, []).append((r.b, r))
+            preserved.setdefault(r.b, []).append((r.a, r))
+    ctx = _Context(settings=settings, prims=prims, a_ref=a_ref, coplanar=coplanar,
+                   preserved=preserved)
+    _Generator(ctx).run()
+    index = {cid: i for i, cid in enumerate(ctx.order)}
+    ordered = sorted(ctx.cands.values(), key=lambda c: (c.part, not c.original, index[c.id]))
+    log.info("%d candidates for %d parts", len(ordered), len(prims))
+    return tuple(ordered)

@@ -1,0 +1,283 @@
+"""Stage 5: choose one candidate per part, validly and at least cost, with SCIP (paper §4.3).
+
+One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
+
+1. exactly one candidate per part is selected;
+2. every selected candidate's parents are selected;
+3. no two selected candidates break a preserved relation of their parts
+   (``candidates.relation_holds`` on their boxes, within the relation's tolerance).
+
+Objective: ``min Σ χ(c) · (w_adjust E_d(c) + w_difficulty E_e(c))``.
+
+Two formulations of the same problem (``settings.formulation``):
+
+* ``quadratic`` (the paper's): ``χ(c) χ(p) − χ(c) ≥ 0`` per parent and ``χ(a) χ(b) = 0`` per
+  relation-breaking pair, as SCIP nonlinear (quadratic) constraints.  O(n²) rows per relation.
+* ``linear``: ``χ(c) ≤ χ(p)`` per parent; per preserved relation ``(i, j)``, the candidates of
+  ``i`` are grouped by the set ``S`` of candidates of ``j`` they conflict with, and one row
+  ``Σ_{c in group} χ(c) + Σ_{d in S} χ(d) ≤ 1`` per group.  Exact (at most one candidate of a
+  part is selected, so the row forbids exactly the conflicting pairs) and one row per distinct
+  conflict set, which is the number of distinct face/centre positions, O(n) at worst.
+
+Build and solve are separate (:func:`build_selection_model`, :func:`solve_selection_model`);
+variables and constraints are added in sorted id order and named after ids (``pick[grip<body#3]``,
+``parent[grip<body#3|body]``, ``keep[body-lens:bisector@0|...]``), so runs are reproducible and an
+infeasibility names its relation.  The all-originals selection is valid by construction (input
+relations hold between the input primitives) and is handed to SCIP as a start solution.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping, Sequence
+
+from pyscipopt import Model, quicksum
+
+from .candidates import Candidate, preserved_relations, relation_holds
+from .config import FORMULATIONS, SolverSettings
+from .errors import SelectionError
+from .types import Relation
+
+log = logging.getLogger(__name__)
+
+#: SCIP status strings mapped to the plan.json ``status`` words.
+_STATUS = {"optimal": "optimal", "timelimit": "time_limit", "gaplimit": "gap_limit",
+           "infeasible": "infeasible", "userinterrupt": "interrupted",
+           "memlimit": "memory_limit", "nodelimit": "node_limit", "sollimit": "solution_limit"}
+
+
+@dataclass(frozen=True, slots=True)
+class Selection:
+    """The chosen candidates and how the solve went (DESIGN.md §3 ``selection``).
+
+    Attributes:
+        chosen: selected candidate ids, one per part, sorted.
+        objective: weighted cost of ``chosen`` (unit-free).
+        status: ``optimal``, ``time_limit``, ``gap_limit`` ... (SCIP's status, snake_case).
+        gap: SCIP's relative primal-dual gap (0 when proven optimal).
+        seconds: SCIP solving time, seconds.
+        formulation: ``quadratic`` or ``linear``.
+        optimal: True only when SCIP proved optimality; callers must say so otherwise.
+        n_vars: binary variables (one per candidate).
+        n_constraints: constraints added to the model.
+        weight_adjust, weight_difficulty: the objective's weights.
+        max_change: the change limit the candidates were generated with.
+    """
+
+    chosen: tuple[str, ...]
+    objective: float
+    status: str
+    gap: float
+    seconds: float
+    formulation: str
+    optimal: bool
+    n_vars: int
+    n_constraints: int
+    weight_adjust: float = 1.0
+    weight_difficulty: float = 1.0
+    max_change: float = 0.10
+
+    def to_json(self) -> dict[str, Any]:
+        """The plan.json ``selection`` object (plus ``gap``, ``optimal`` and model size)."""
+        return {
+            "solver": "scip",
+            "formulation": self.formulation,
+            "status": self.status,
+            "optimal": self.optimal,
+            "weights": {"adjust": self.weight_adjust, "difficulty": self.weight_difficulty},
+            "max_change": self.max_change,
+            "objective": self.objective,
+            "gap": self.gap,
+            "selected": list(self.chosen),
+            "seconds": self.seconds,
+            "n_vars": self.n_vars,
+            "n_constraints": self.n_constraints,
+        }
+
+
+@dataclass(eq=False)
+class SelectionModel:
+    """A built SCIP model of the selection problem (not yet solved).
+
+    Attributes:
+        scip: the pyscipopt ``Model``.
+        pick: candidate id -> its binary variable, in sorted id order.
+        formulation: ``quadratic`` or ``linear``.
+        costs: candidate id -> weighted objective coefficient.
+        start: ids of the start solution (all originals), empty when a part has no original.
+        n_constraints: constraints added.
+    """
+
+    scip: Model
+    pick: dict[str, Any]
+    formulation: str
+    costs: dict[str, float]
+    start: tuple[str, ...] = ()
+    n_constraints: int = 0
+    settings: SolverSettings = field(default_factory=SolverSettings)
+
+
+def _conflicts(rel: Relation, cands_a: Sequence[Candidate],
+               cands_b: Sequence[Candidate]) -> dict[str, tuple[str, ...]]:
+    """For each candidate of ``rel.a``, the candidates of ``rel.b`` it breaks ``rel`` with."""
+    out: dict[str, tuple[str, ...]] = {}
+    for ca in cands_a:
+        bad = tuple(cb.id for cb in cands_b if not relation_holds(rel, ca.box, cb.box))
+        if bad:
+            out[ca.id] = bad
+    return out
+
+
+def _check(candidates: Sequence[Candidate], relations: Sequence[Relation],
+           settings: SolverSettings) -> None:
+    if settings.formulation not in FORMULATIONS:
+        raise SelectionError(f"solver.formulation: expected one of {', '.join(FORMULATIONS)}, "
+                             f"got {settings.formulation!r}")
+    if not candidates:
+        raise SelectionError("no candidates to select from (no parts?)")
+    ids = [c.id for c in candidates]
+    if len(set(ids)) != len(ids):
+        dup = sorted({i for i in ids if ids.count(i) > 1})[0]
+        raise SelectionError(f"candidates: id {dup!r} appears more than once")
+    known = set(ids)
+    for c in candidates:
+        for p in c.parents:
+            if p not in known:
+                raise SelectionError(f"candidates: {c.id!r} hangs off unknown candidate {p!r}")
+        for x in (c.cost_adjust, c.cost_difficulty):
+            if not math.isfinite(x):
+                raise SelectionError(f"candidates: {c.id!r} has a non-finite cost {x}")
+    parts = {c.part for c in candidates}
+    for r in relations:
+        if r.a not in parts or r.b not in parts:
+            raise SelectionError(f"relations: {r.type} {r.a}-{r.b} names a part with no candidate")
+
+
+def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[Relation],
+                          settings: SolverSettings) -> SelectionModel:
+    """Build (do not solve) the SCIP model for ``settings.formulation``.
+
+    Raises:
+        SelectionError: unknown formulation, duplicate ids, dangling parents.
+    """
+    _check(candidates, relations, settings)
+    cands = sorted(candidates, key=lambda c: c.id)
+    by_part: dict[str, list[Candidate]] = {}
+    for c in cands:
+        by_part.setdefault(c.part, []).append(c)
+    quadratic = settings.formulation == "quadratic"
+
+    scip = Model("h2s-selection")
+    scip.hideOutput()
+    pick = {c.id: scip.addVar(name=f"pick[{c.id}]", vtype="B") for c in cands}
+    costs = {c.id: c.cost(settings.weight_adjust, settings.weight_difficulty) for c in cands}
+    n = 0
+    # (1) one candidate per part
+    for part in sorted(by_part):
+        scip.addCons(quicksum(pick[c.id] for c in by_part[part]) == 1, name=f"one[{part}]")
+        n += 1
+    # (2) parents selected with their children
+    for c in cands:
+        for p in c.parents:
+            name = f"parent[{c.id}|{p}]"
+            if quadratic:
+                scip.addCons(pick[c.id] * pick[p] - pick[c.id] >= 0, name=name)
+            else:
+                scip.addCons(pick[c.id] <= pick[p], name=name)
+            n += 1
+    # (3) preserved relations kept
+    for rel in preserved_relations(relations):
+        originals_a = [c for c in by_part[rel.a] if c.original]
+        originals_b = [c for c in by_part[rel.b] if c.original]
+        if originals_a and originals_b and not relation_holds(rel, originals_a[0].box,
+                                                               originals_b[0].box):
+            log.warning("relation %s %s-%s axis %d does not hold on the input primitives; "
+                        "not preserved", rel.type, rel.a, rel.b, rel.axis)
+            continue
+        tag = f"{rel.a}-{rel.b}:{rel.type}@{rel.axis}"
+        conflicts = _conflicts(rel, by_part[rel.a], by_part[rel.b])
+        if quadratic:
+            for a_id in sorted(conflicts):
+                for b_id in conflicts[a_id]:
+                    scip.addCons(pick[a_id] * pick[b_id] == 0, name=f"keep[{tag}|{a_id}|{b_id}]")
+                    n += 1
+        else:
+            groups: dict[tuple[str, ...], list[str]] = {}
+            for a_id in sorted(conflicts):
+                groups.setdefault(conflicts[a_id], []).append(a_id)
+            for bad, group in sorted(groups.items(), key=lambda g: g[1][0]):
+                scip.addCons(quicksum(pick[i] for i in group) + quicksum(pick[j] for j in bad)
+                             <= 1, name=f"keep[{tag}|{group[0]}]")
+                n += 1
+    scip.setObjective(quicksum(costs[c.id] * pick[c.id] for c in cands), sense="minimize")
+
+    start: tuple[str, ...] = ()
+    if all(any(c.original for c in by_part[p]) for p in by_part):
+        start = tuple(c.id for c in cands if c.original)
+        sol = scip.createSol()
+        chosen = set(start)
+        for c in cands:
+            scip.setSolVal(sol, pick[c.id], 1.0 if c.id in chosen else 0.0)
+        if not scip.addSol(sol, free=True):
+            log.warning("SCIP rejected the all-originals start solution")
+    return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
+                          start=start, n_constraints=n, settings=settings)
+
+
+def solve_selection_model(model: SelectionModel) -> Selection:
+    """Solve a built model within ``settings.time_limit_s``.
+
+    Raises:
+        SelectionError: SCIP found no solution (infeasible, or no solution in time).
+    """
+    scip, settings = model.scip, model.settings
+    scip.setParam("limits/time", float(settings.time_limit_s))
+    scip.setParam("randomization/randomseedshift", 0)
+    scip.optimize()
+    raw = scip.getStatus()
+    status = _STATUS.get(raw, raw)
+    if scip.getNSols() == 0:
+        raise SelectionError(f"SCIP ended {status!r} with no valid selection "
+                             f"({len(model.pick)} candidates, formulation {model.formulation}); "
+                             f"raise solver.time_limit_s or lower solver.depth")
+    best = scip.getBestSol()
+    chosen = tuple(sorted(cid for cid, var in model.pick.items()
+                          if scip.getSolVal(best, var) > 0.5))
+    objective = math.fsum(model.costs[c] for c in chosen)
+    optimal = raw == "optimal"
+    gap = 0.0 if optimal else float(scip.getGap())
+    if not optimal:
+        log.warning("selection not proven optimal: SCIP status %s, gap %.3g", status, gap)
+    return Selection(chosen=chosen, objective=objective, status=status, gap=gap,
+                     seconds=float(scip.getSolvingTime()), formulation=model.formulation,
+                     optimal=optimal, n_vars=len(model.pick), n_constraints=model.n_constraints,
+                     weight_adjust=settings.weight_adjust,
+                     weight_difficulty=settings.weight_difficulty,
+                     max_change=settings.max_change)
+
+
+def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relation],
+                      settings: SolverSettings) -> Selection:
+    """Choose one candidate per part: valid (eq. 1-3) and of least weighted cost.
+
+    Args:
+        candidates: every candidate (``generate_candidates``), originals included.
+        relations: all relations; those with ``detail["preserved"]`` must be kept.
+        settings: ``formulation``, ``time_limit_s``, weights, ``max_change`` (reported).
+
+    Returns:
+        the selection; ``optimal`` is False when SCIP stopped before proving it.
+
+    Raises:
+        SelectionError: bad input or no valid selection found.
+    """
+    return solve_selection_model(build_selection_model(candidates, relations, settings))
+
+
+def chosen_candidates(selection: Selection, candidates: Sequence[Candidate]
+                      ) -> Mapping[str, Candidate]:
+    """Part name -> its selected candidate."""
+    by_id = {c.id: c for c in candidates}
+    return {by_id[i].part: by_id[i] for i in selection.chosen}

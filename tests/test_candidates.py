@@ -1,0 +1,287 @@
+"""Stage 4: the ratio catalogue and candidate generation (factories build inputs by hand)."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+
+import pytest
+
+from checker import check_candidate, plan_from, relation_kept
+from h2s_print import ratios
+from h2s_print.candidates import generate_candidates, relation_holds
+from h2s_print.config import SolverSettings
+from h2s_print.errors import SelectionError
+from h2s_print.types import Primitive, Relation
+
+SETTINGS = SolverSettings()
+
+
+# --------------------------------------------------------------------------- factories
+
+
+def prim(part, lo, hi, type="cuboid", axis=None):
+    return Primitive(part, type, axis, (tuple(map(float, lo)), tuple(map(float, hi))), 0.01)
+
+
+def rel(a, b, type, axis, tol=0.05, preserved=False, **detail):
+    return Relation(a, b, type, axis, tol, {**detail, "preserved": preserved})
+
+
+def camera():
+    """Body 10 x 4 x 6; grip flush with the body's front face and sticking out ~1/2 its depth;
+    a lens cylinder (axis y) on the front face ~1x the depth long; a prism on top; the lens and
+    prism share the body's x mid-plane (bisector)."""
+    prims = [prim("body", (0, 0, 0), (10, 4, 6)),
+             prim("grip", (7.3, -2.1, 0), (10, 0, 5.7)),
+             prim("lens", (3.4, -3.9, 1.4), (6.6, 0, 4.6), "cylinder", 1),
+             prim("prism", (2.6, 0.95, 6), (7.4, 3.1, 7.7), "frustum", 2)]
+    rels = [rel("body", "grip", "coplanar", 1, a_end="lo", b_end="hi", coord=0.0, preserved=True),
+            rel("body", "grip", "coplanar", 2, a_end="lo", b_end="lo", coord=0.0),
+            rel("body", "grip", "coplanar", 0, a_end="hi", b_end="hi", coord=10.0),
+            rel("body", "lens", "coplanar", 1, a_end="lo", b_end="hi", coord=0.0),
+            rel("body", "lens", "bisector", 0, coord=5.0, preserved=True),
+            rel("body", "prism", "coplanar", 2, a_end="hi", b_end="lo", coord=6.0),
+            rel("body", "prism", "bisector", 0, coord=5.0, preserved=True),
+            rel("lens", "prism", "bisector", 0, coord=5.0, preserved=True)]
+    return prims, rels
+
+
+# --------------------------------------------------------------------------- ratios
+
+
+def test_catalogue_ratios_and_line_counts():
+    got = {e.label: e.guide_lines for e in ratios.CATALOGUE}
+    # align 1 (the edge extended); half 3 (2 diagonals + the 1/2 line); quarter 3 + 3 on a
+    # half face; third 5 (2 diagonals, the cross line E-F, C-E, the 1/3 line); extend by 1 is
+    # 6 (2 diagonals, E-F, the extended edge, D-F to the edge, the new end); extend by 1/2 is
+    # the 3 half lines + those last 4 = 7.
+    assert got == {"-1": 6, "-1/2": 7, "0": 1, "1/4": 6, "1/3": 5, "1/2": 3, "2/3": 5,
+                   "3/4": 6, "1": 1, "3/2": 7, "2": 6}
+    assert [e.ratio for e in ratios.CATALOGUE] == sorted(e.ratio for e in ratios.CATALOGUE)
+    for e in ratios.CATALOGUE:
+        assert e.guide_lines == len(e.construction)
+    assert ratios.distinct_lines([0.25, 0.75]) == 9  # 3 shared half lines + 3 + 3
+    assert ratios.distinct_lines([1 / 3, 0.5]) == 6  # AC, BD shared; E-F, C-E, 1/3, 1/2
+
+
+def _on_line(p, q, r, parallel=None):
+    """Is r on the line through p and q (or through p along ``parallel``)?"""
+    if parallel is not None:
+        d = (0.0, 1.0) if parallel == "AD" else (1.0, 0.0)
+    else:
+        d = (q[0] - p[0], q[1] - p[1])
+    return abs(d[0] * (r[1] - p[1]) - d[1] * (r[0] - p[0])) < 1e-12
+
+
+@pytest.mark.parametrize("entry", ratios.CATALOGUE, ids=lambda e: e.name)
+def test_constructions_are_incidence_constructions(entry):
+    known = {"A", "B", "C", "D"}
+    lines = [(ratios.point_st(a), ratios.point_st(b), None) for a, b in
+             (("A", "B"), ("D", "C"), ("A", "D"), ("B", "C"))]  # the face's edge lines
+    for step in entry.construction:
+        assert step.kind in ratios.STEP_KINDS
+        assert set(step.through) <= known, (step, known)
+        pts = [ratios.point_st(n) for n in step.through]
+        p, q = pts[0], (pts[1] if len(pts) > 1 else None)
+        assert (q is None) == (step.parallel is not None)
+        for name in (step.start, step.end, *step.makes):
+            assert _on_line(p, q, ratios.point_st(name), step.parallel), (step, name)
+        for name in step.makes:  # each new point also lies on an earlier line or an edge
+            r = ratios.point_st(name)
+            assert any(_on_line(a, b, r, par) for a, b, par in lines), (step, name)
+        lines.append((p, q, step.parallel))
+        known |= set(step.makes) | {step.start, step.end}
+    last = entry.construction[-1]
+    assert last.kind in ("division", "align")
+    s0, t0 = ratios.point_st(last.start)
+    s1, t1 = ratios.point_st(last.end)
+    assert (s0, s1) == pytest.approx((entry.ratio, entry.ratio)) and {t0, t1} == {0.0, 1.0}
+
+
+def test_construction_segments_in_3d():
+    # Face of x in [2, 6] (anchored axis) and z in [1, 4] at y = 0: the 1/4 line is x = 3.
+    half = ratios.entry_for(0.25)
+    segs = ratios.construction_segments(half, (2, 0, 1), (6, 0, 1), (2, 0, 4))
+    step, start, end = segs[-1]
+    assert step.kind == "division"
+    assert start == pytest.approx((3.0, 0.0, 1.0)) and end == pytest.approx((3.0, 0.0, 4.0))
+    # extend by 1 after B puts the new end at x = 6 + 4 = 10
+    assert ratios.construction_segments(ratios.entry_for(2.0), (2, 0, 1), (6, 0, 1),
+                                        (2, 0, 4))[-1][1] == pytest.approx((10.0, 0.0, 1.0))
+
+
+# --------------------------------------------------------------------------- generation
+
+
+def test_camera_candidates_satisfy_the_contract():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    ids = [c.id for c in cands]
+    assert len(ids) == len(set(ids))
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    problems = [p for c in plan["candidates"] for p in check_candidate(plan, c)]
+    assert problems == []
+    by_id = {c.id: c for c in cands}
+    for c in cands:
+        assert all(p in by_id for p in c.parents)
+        assert c.depth == (0 if c.original else 1 + max(by_id[p].depth for p in c.parents))
+        # a candidate never hangs off a candidate of its own part
+        assert all(by_id[p].part != c.part for p in c.parents)
+    originals = [c for c in cands if c.original]
+    assert [c.id for c in originals] == ["body", "grip", "lens", "prism"]
+    for o in originals:
+        assert o.unguided_axes == (0, 1, 2) and o.cost_adjust == 6.0  # 3 axes x 2
+        assert o.cost_difficulty == 0.0
+    assert {c.depth for c in cands} >= {0, 1, 2}  # second-level candidates exist
+
+
+def test_generation_is_deterministic_and_sorted():
+    prims, rels = camera()
+    a = json.dumps([c.to_json() for c in generate_candidates(prims, rels, SETTINGS)])
+    b = json.dumps([c.to_json() for c in
+                    generate_candidates(list(reversed(prims)), list(reversed(rels)), SETTINGS)])
+    assert a == b
+    parts = [c["part"] for c in json.loads(a)]
+    assert parts == sorted(parts)
+
+
+def test_grip_extended_by_half_the_body_depth():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    target = ((7.5, -2.0, 0.0), (10.0, 0.0, 6.0))
+    grip = [c for c in cands if c.part == "grip" and c.parents == ("body",) and c.box == target]
+    assert len(grip) == 1
+    c = grip[0]
+    got = {(a.axis, a.end): a.ratio for a in c.anchors}
+    # x: 3/4 .. 1 of the body's 10; y: -1/2 (extend by 1/2 of 4 = -2) .. 0; z: 0 .. 1 of 6
+    assert got == {(0, "lo"): 0.75, (0, "hi"): 1.0, (1, "lo"): -0.5, (1, "hi"): 0.0,
+                   (2, "lo"): 0.0, (2, "hi"): 1.0}
+    assert c.id.startswith("grip<body#") and c.unguided_axes == ()
+    # E_d: x |2.5-2.7|/2.7 + |8.75-8.65|/2.7 = 0.3/2.7; y 0.1/2.1 + 0.05/2.1; z 0.3/5.7 + 0.15/5.7
+    assert c.cost_adjust == pytest.approx(0.3 / 2.7 + 0.15 / 2.1 + 0.45 / 5.7)
+    # E_e = 0.02 * A_ref/A_face * lines, A_ref = 10 x 6 = 60 (body front):
+    # x on the front face (60): 3/4 and 1 share nothing: 6 + 1 lines -> 7
+    # y on the shared bottom face (10 x 4 = 40 > the side 4 x 6): -1/2 and 0: 7 + 1 -> 8 * 60/40
+    # z on the front face: 0 and 1: 2 lines
+    assert c.cost_difficulty == pytest.approx(0.02 * (7 + 8 * 60 / 40 + 2))
+
+
+def test_anchor_faces_follow_the_shared_plane():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    c = next(c for c in cands if c.part == "grip" and c.parents == ("body",)
+             and c.box == ((7.5, -2.0, 0.0), (10.0, 0.0, 6.0)))
+    for a in c.anchors:
+        if a.axis in (0, 2):  # in the shared front plane y = 0, the body's lo-y face
+            assert (a.face_normal, a.face_side) == (1, "lo")
+        else:  # y: on the shared bottom plane z = 0 (10 x 4 = 40 beats the 4 x 6 side)
+            assert (a.face_normal, a.face_side) == (2, "lo")
+
+
+def test_changes_beyond_max_change_are_discarded():
+    prims, rels = camera()
+    tight = dataclasses.replace(SETTINGS, max_change=0.02)
+    cands = generate_candidates(prims, rels, tight)
+    plan = plan_from(prims, rels, cands, [], tight)
+    assert [p for c in plan["candidates"] for p in check_candidate(plan, c)] == []
+    # the grip's 2.1 -> 2.0 depth change is 4.8% > 2%, so no grip candidate has y lo = -2
+    assert not any(c.part == "grip" and c.box[0][1] == -2.0 for c in cands)
+    assert len(cands) < len(generate_candidates(prims, rels, SETTINGS))
+
+
+def test_depth_one_has_only_first_level():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, dataclasses.replace(SETTINGS, depth=1))
+    # restored candidates hang off first-level ones (depth 2) but nothing deeper
+    assert max(c.depth for c in cands) <= 2
+    for c in cands:
+        if c.depth == 2:
+            assert all(p.count("<") == 1 for p in c.parents)
+
+
+def test_custom_parts_take_no_part_in_anchoring():
+    prims, rels = camera()
+    prims = [dataclasses.replace(p, type="custom", axis=None) if p.part == "grip" else p
+             for p in prims]
+    cands = generate_candidates(prims, rels, SETTINGS)
+    assert [c.id for c in cands if c.part == "grip"] == ["grip"]
+    assert not any("grip" in c.parents for c in cands)
+
+
+def test_a_plane_stays_flat():
+    # A 0-thick plate on the body's top face: its z axis has both ends at the same anchor.
+    prims = [prim("body", (0, 0, 0), (10, 4, 6)), prim("plate", (2.6, 1.05, 6), (7.4, 3.0, 6),
+                                                      "plane", 2)]
+    rels = [rel("body", "plate", "coplanar", 2, a_end="hi", b_end="lo", coord=6.0)]
+    cands = generate_candidates(prims, rels, SETTINGS)
+    plates = [c for c in cands if c.part == "plate" and not c.original]
+    assert plates
+    for c in plates:
+        assert c.box[0][2] == c.box[1][2]
+        z = [a for a in c.anchors if a.axis == 2]
+        assert len(z) in (0, 2) and len({a.ratio for a in z}) <= 1
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    assert [p for c in plan["candidates"] for p in check_candidate(plan, c)] == []
+
+
+def test_shelf_anchored_between_two_panels():
+    # A shelf spans the gap between two side panels: its x ends anchor to different parents.
+    prims = [prim("left", (0, 0, 0), (1, 5, 10)), prim("right", (9, 0, 0), (10, 5, 10)),
+             prim("shelf", (1.02, 0, 4.9), (8.97, 5, 5.1))]
+    rels = [rel("left", "shelf", "coplanar", 0, a_end="hi", b_end="lo", coord=1.0),
+            rel("right", "shelf", "coplanar", 0, a_end="lo", b_end="hi", coord=9.0)]
+    cands = generate_candidates(prims, rels, SETTINGS)
+    both = [c for c in cands if c.part == "shelf" and c.parents == ("left", "right")
+            and c.box[0][0] == 1.0 and c.box[1][0] == 9.0]
+    assert both, [c.id for c in cands]
+    assert both[0].id.startswith("shelf<left+right#")
+
+
+def test_restoring_a_relation_makes_a_realigned_candidate():
+    # a and b share a bisector (x mid 5.1).  a sits on c and snaps to 1/4..3/4 of c's x
+    # (2.5..7.5, mid 5.0): that breaks the bisector, so b gets candidates re-aligned to a's.
+    prims = [prim("c", (0, 0, 0), (10, 10, 2)),
+             prim("a", (2.6, 0, 2), (7.6, 3, 4)),    # mid x 5.1 -> snaps to 2.5..7.5, mid 5.0
+             prim("b", (3.1, 5, 2), (7.1, 9, 3))]    # mid x 5.1: bisector with a
+    rels = [rel("a", "c", "coplanar", 2, a_end="lo", b_end="hi", coord=2.0),
+            rel("a", "b", "bisector", 0, coord=5.1, preserved=True)]
+    cands = generate_candidates(prims, rels, SETTINGS)
+    by_id = {c.id: c for c in cands}
+    restored = [c for c in cands if c.part == "b" and not c.original]
+    assert restored
+    for c in restored:
+        (parent,) = c.parents
+        assert by_id[parent].part == "a"
+        assert relation_holds(rels[1], by_id[parent].box, c.box)
+        assert relation_kept({"type": "bisector", "axis": 0, "tolerance": 0.05,
+                              "detail": {}}, by_id[parent].box, c.box)
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    assert [p for c in plan["candidates"] for p in check_candidate(plan, c)] == []
+
+
+def test_guard_rail_on_candidate_count():
+    prims, rels = camera()
+    with pytest.raises(SelectionError, match="max_candidates"):
+        generate_candidates(prims, rels, dataclasses.replace(SETTINGS, max_candidates=10))
+
+
+def test_bad_input_is_a_selection_error():
+    prims, rels = camera()
+    with pytest.raises(SelectionError, match="more than once"):
+        generate_candidates(prims + [prims[0]], rels, SETTINGS)
+    with pytest.raises(SelectionError, match="unknown part"):
+        generate_candidates(prims, rels + [rel("body", "ghost", "coplanar", 0, a_end="lo",
+                                               b_end="lo")], SETTINGS)
+
+
+def test_candidate_json_is_plain():
+    prims, rels = camera()
+    c = generate_candidates(prims, rels, SETTINGS)[1]
+    data = json.loads(json.dumps(c.to_json()))
+    assert set(data) >= {"id", "part", "box", "original", "parents", "depth", "anchors",
+                         "unguided_axes", "cost_adjust", "cost_difficulty"}
+    assert all(set(a) >= {"axis", "end", "parent", "ratio", "guide_lines"}
+               for a in data["anchors"])
+    assert math.isfinite(data["cost_adjust"])

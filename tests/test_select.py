@@ -1,0 +1,275 @@
+"""Stage 5: SCIP selection against brute force and an independent checker."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import json
+import math
+import random
+
+import pytest
+
+from checker import check_objective, check_selection, plan_from, relation_kept, selection_cost
+from h2s_print.candidates import Candidate, generate_candidates
+from h2s_print.config import SolverSettings
+from h2s_print.errors import SelectionError
+from h2s_print.select import build_selection_model, select_candidates
+from h2s_print.types import Primitive, Relation
+from test_candidates import camera, prim, rel
+
+SETTINGS = SolverSettings()
+QUAD = dataclasses.replace(SETTINGS, formulation="quadratic")
+LIN = dataclasses.replace(SETTINGS, formulation="linear")
+
+
+# --------------------------------------------------------------------------- brute force
+
+
+def brute_force(plan) -> tuple[float, tuple[str, ...]]:
+    """Least weighted cost over every valid assignment, validity decided by the checker."""
+    by_part: dict[str, list[str]] = {}
+    for c in plan["candidates"]:
+        by_part.setdefault(c["part"], []).append(c["id"])
+    best = (math.inf, ())
+    for combo in itertools.product(*(by_part[p] for p in sorted(by_part))):
+        if check_selection(plan, combo, contract=False):
+            continue
+        cost = selection_cost(plan, combo)
+        if cost < best[0] - 1e-12:
+            best = (cost, tuple(sorted(combo)))
+    return best
+
+
+def synthetic(seed: int, n_parts: int = 4, per_part: int = 4):
+    """Random candidate sets: random parents (acyclic), boxes on a coarse grid so preserved
+    relations hold for some pairs and break for others; all originals share one box, so the
+    all-originals selection is valid."""
+    rng = random.Random(seed)
+    parts = [f"p{i}" for i in range(n_parts)]
+    base = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    prims = [Primitive(p, "cuboid", None, base, 0.0) for p in parts]
+    cands: list[Candidate] = []
+    for p in parts:
+        cands.append(Candidate(p, p, base, True, (), 0, (), (0, 1, 2), 6.0, 0.0))
+    order: list[Candidate] = list(cands)
+    for k in range(1, per_part):
+        for p in parts:
+            lo = tuple(rng.choice((-0.5, 0.0, 0.5)) for _ in range(3))
+            box = (lo, tuple(x + 1.0 for x in lo))
+            pool = [c for c in order if c.part != p]
+            parents = tuple(sorted({c.id for c in rng.sample(pool, rng.choice((0, 1, 1, 2)))}))
+            if len({c.part for c in order if c.id in parents}) != len(parents):
+                parents = parents[:1]
+            c = Candidate(f"{p}<#{k}", p, box, False, parents, 1, (), (0, 1, 2),
+                          round(rng.uniform(0.0, 5.0), 3), round(rng.uniform(0.0, 2.0), 3))
+            cands.append(c)
+            order.append(c)
+    rels = []
+    for a, b in itertools.combinations(parts, 2):
+        if rng.random() < 0.6:
+            kind = rng.choice(("coplanar", "bisector", "coaxial"))
+            rels.append(Relation(a, b, kind, rng.randrange(3), 0.1,
+                                 {"a_end": rng.choice(("lo", "hi")),
+                                  "b_end": "lo", "preserved": True} if kind == "coplanar"
+                                 else {"preserved": True}))
+    # coplanar a_end/b_end must hold on the originals: use equal ends
+    rels = [Relation(r.a, r.b, r.type, r.axis, r.tolerance, {**r.detail, "b_end":
+                     r.detail["a_end"]}) if r.type == "coplanar" else r for r in rels]
+    return prims, rels, cands
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_selection_equals_brute_force(seed):
+    prims, rels, cands = synthetic(seed)
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    want_cost, _ = brute_force(plan)
+    for settings in (QUAD, LIN):
+        sel = select_candidates(cands, rels, settings)
+        assert sel.optimal and sel.status == "optimal"
+        assert check_selection(plan, sel.chosen, contract=False) == []
+        assert sel.objective == pytest.approx(want_cost, abs=1e-9)
+
+
+def test_camera_selection_matches_brute_force_and_checker():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, dataclasses.replace(SETTINGS, depth=1))
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    want_cost, _ = brute_force(plan)
+    sel = select_candidates(cands, rels, SETTINGS)
+    assert sel.objective == pytest.approx(want_cost, abs=1e-9)
+    plan["selection"].update(sel.to_json())
+    assert check_selection(plan) == [] and check_objective(plan) == []
+
+
+def test_camera_chooses_anchored_candidates():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    by_id = {c.id: c for c in cands}
+    for settings in (QUAD, LIN):
+        sel = select_candidates(cands, rels, settings)
+        assert sel.optimal
+        plan = plan_from(prims, rels, cands, [], settings)
+        plan["selection"].update(sel.to_json())
+        assert check_selection(plan) == [] and check_objective(plan) == []
+        chosen = [by_id[i] for i in sel.chosen]
+        anchored = [c for c in chosen if c.anchors]
+        assert len(anchored) >= 3  # of 4 parts: the first one drawn has nothing to hang off
+        assert {c.part for c in chosen} == {"body", "grip", "lens", "prism"}
+        # the grip sticks out 1/2 of the body's depth in front of it
+        grip = next(c for c in chosen if c.part == "grip")
+        assert grip.box[0][1] == -2.0 and grip.box[1][1] == 0.0
+
+
+def _jittered_camera(seed: int):
+    rng = random.Random(seed)
+    prims, rels = camera()
+    out = []
+    for p in prims:
+        if p.part == "body":
+            out.append(p)
+            continue
+        dx = rng.uniform(-0.15, 0.15)
+        s = rng.uniform(0.97, 1.03)
+        lo, hi = p.box
+        c0 = (lo[0] + hi[0]) / 2 + dx
+        half = (hi[0] - lo[0]) / 2 * s
+        out.append(dataclasses.replace(p, box=((c0 - half, lo[1], lo[2]), (c0 + half, hi[1], hi[2]))))
+    # bisector relations only where they still hold on the jittered boxes
+    boxes = {p.part: p.box for p in out}
+    kept = []
+    for r in rels:
+        d = {"type": r.type, "axis": r.axis, "tolerance": r.tolerance, "detail": dict(r.detail)}
+        if r.type == "coplanar" and r.axis == 0:
+            continue
+        if relation_kept(d, boxes[r.a], boxes[r.b]):
+            kept.append(r)
+    return out, kept
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_formulations_agree_on_random_instances(seed):
+    prims, rels = _jittered_camera(seed)
+    cands = generate_candidates(prims, rels, SETTINGS)
+    q = select_candidates(cands, rels, QUAD)
+    lin = select_candidates(cands, rels, LIN)
+    assert q.optimal and lin.optimal
+    assert q.objective == pytest.approx(lin.objective, abs=1e-9)
+    for sel in (q, lin):
+        plan = plan_from(prims, rels, cands, [], SETTINGS)
+        plan["selection"].update(sel.to_json())
+        assert check_selection(plan) == []
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_formulations_agree_on_bigger_synthetic_instances(seed):
+    prims, rels, cands = synthetic(100 + seed, n_parts=8, per_part=6)
+    q = select_candidates(cands, rels, QUAD)
+    lin = select_candidates(cands, rels, LIN)
+    assert q.objective == pytest.approx(lin.objective, abs=1e-9)
+
+
+# --------------------------------------------------------------------------- the checker can fail
+
+
+def test_checker_catches_broken_selections():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    sel = select_candidates(cands, rels, SETTINGS)
+    plan = plan_from(prims, rels, cands, sel.chosen, SETTINGS, sel.objective)
+    assert check_selection(plan) == []
+    chosen = list(sel.chosen)
+
+    # two candidates for one part
+    extra = next(c.id for c in cands if c.part == "lens" and c.id not in chosen)
+    assert any("both" in v for v in check_selection(plan, chosen + [extra]))
+    # a part left out
+    assert any("no candidate" in v for v in check_selection(plan, chosen[1:]))
+    # a child without its parent: swap the body's original for another body candidate
+    other_body = next(c.id for c in cands if c.part == "body" and not c.original)
+    swapped = [other_body if i == "body" else i for i in chosen]
+    assert any("not selected" in v for v in check_selection(plan, swapped))
+    # a preserved relation broken: the selected prism slid 0.3 along x, off the body's
+    # mid-plane x = 5 (bisector tolerance 0.05)
+    moved = json.loads(json.dumps(plan))
+    prism = next(c for c in moved["candidates"] if c["id"] in chosen and c["part"] == "prism")
+    prism["box"][0][0] += 0.3
+    prism["box"][1][0] += 0.3
+    problems = check_selection(moved)
+    assert any("bisector body-prism axis 0 broken" in v for v in problems)
+    # an anchor off its ratio: nudge the selected grip's box by 1e-6
+    grip = next(c for c in plan["candidates"] if c["id"] in chosen and c["part"] == "grip")
+    grip["box"][0][1] += 1e-6
+    assert any("anchor" in v for v in check_selection(plan))
+    # a wrong objective
+    plan["selection"]["objective"] = sel.objective + 1.0
+    assert check_objective(plan)
+
+
+# --------------------------------------------------------------------------- model and reporting
+
+
+def test_model_size_and_names():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    q = build_selection_model(cands, rels, QUAD)
+    lin = build_selection_model(cands, rels, LIN)
+    assert list(q.pick) == sorted(c.id for c in cands)
+    assert q.pick["body"].name == "pick[body]"
+    assert lin.n_constraints <= q.n_constraints
+    assert q.start == ("body", "grip", "lens", "prism")
+
+
+def test_selection_json_and_determinism():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    a = select_candidates(cands, rels, SETTINGS)
+    b = select_candidates(cands, rels, SETTINGS)
+    assert a.chosen == b.chosen and a.objective == b.objective
+    data = json.loads(json.dumps(a.to_json()))
+    assert data["solver"] == "scip" and data["formulation"] == "quadratic"
+    assert data["status"] == "optimal" and data["optimal"] is True and data["gap"] == 0.0
+    assert data["weights"] == {"adjust": 1.0, "difficulty": 1.0} and data["max_change"] == 0.1
+    assert data["selected"] == list(a.chosen) and data["seconds"] >= 0
+
+
+def test_weights_change_the_choice():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    # With difficulty 1000x more expensive than adjustment, guides are not worth it: the
+    # originals (E_e = 0) win.
+    heavy = dataclasses.replace(SETTINGS, weight_difficulty=1000.0)
+    sel = select_candidates(cands, rels, heavy)
+    assert sel.chosen == ("body", "grip", "lens", "prism")
+    assert sel.objective == pytest.approx(4 * 6.0)  # four originals, E_d = 6 each
+
+
+def test_errors():
+    prims, rels = camera()
+    cands = list(generate_candidates(prims, rels, SETTINGS))
+    with pytest.raises(SelectionError, match="more than once"):
+        select_candidates(cands + [cands[0]], rels, SETTINGS)
+    with pytest.raises(SelectionError, match="formulation"):
+        select_candidates(cands, rels, dataclasses.replace(SETTINGS, formulation="magic"))
+    with pytest.raises(SelectionError, match="unknown candidate"):
+        select_candidates([dataclasses.replace(cands[1], parents=("nobody",))] + cands[2:],
+                          rels, SETTINGS)
+    # infeasible: the only candidates of two parts always break their preserved relation
+    a = Candidate("a<b#1", "a", ((0, 0, 0), (1, 1, 1)), False, (), 1, (), (0, 1, 2), 1.0, 0.0)
+    b = Candidate("b<a#1", "b", ((5, 0, 0), (6, 1, 1)), False, (), 1, (), (0, 1, 2), 1.0, 0.0)
+    r = Relation("a", "b", "bisector", 0, 0.1, {"preserved": True})
+    with pytest.raises(SelectionError, match="no valid selection"):
+        select_candidates([a, b], [r], SETTINGS)
+
+
+def test_plane_on_body_is_selected_flat():
+    prims = [prim("body", (0, 0, 0), (10, 4, 6)),
+             prim("plate", (2.6, 1.05, 6), (7.4, 3.0, 6), "plane", 2)]
+    rels = [rel("body", "plate", "coplanar", 2, a_end="hi", b_end="lo", coord=6.0,
+                preserved=True)]
+    cands = generate_candidates(prims, rels, SETTINGS)
+    sel = select_candidates(cands, rels, SETTINGS)
+    plan = plan_from(prims, rels, cands, sel.chosen, SETTINGS, sel.objective)
+    assert check_selection(plan) == [] and check_objective(plan) == []
+    plate = next(c for c in cands if c.id in sel.chosen and c.part == "plate")
+    assert plate.anchors and plate.box[0][2] == plate.box[1][2] == 6.0
