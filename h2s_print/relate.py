@@ -8,9 +8,10 @@ Every pair of fitted primitives (``custom`` ones excluded: they are unguided) is
   rectangles overlap or come within the tolerance of touching in that plane.  The second
   condition is our choice: guides transfer only within a shared plane region, and it stops two
   far-apart parts that merely happen to sit at one height from being called coplanar.
-* **coaxial** along an axis: both are rotational (cylinder or frustum) with that axis and their
-  axis lines (``detail["centre"]``) are within the tolerance of each other (Euclidean distance
-  across the axis).  ``detail = {"line": [u, v]}``, the mean of the two lines.
+* **coaxial** along an axis: one is rotational (cylinder or frustum) about that axis and the
+  other is rotational about it too or a cuboid (whose axis line is its box's centre line: the
+  mixer's flat beater turns about the bowl's axis), and their axis lines are within the
+  tolerance of each other (Euclidean distance across the axis).  ``detail = {"line": [u, v]}``, the mean of the two lines.
 * **bisector** along an axis: the mid-planes of the two boxes normal to that axis coincide.
   ``detail = {"coord": mean mid-plane coordinate}``.
 
@@ -65,6 +66,29 @@ def _faces_touch(a: Primitive, b: Primitive, axis: int, tol: float) -> bool:
     return True
 
 
+def _shared_axis(a: Primitive, b: Primitive) -> int | None:
+    """The axis along which a and b could be coaxial, or None.
+
+    At least one must be rotational (cylinder, frustum) about that axis; the other is rotational
+    about the same axis or a cuboid, whose axis line is its box's centre line (a beater shaft in
+    a bowl, a lens barrel on a square mount).
+    """
+    for p, q in ((a, b), (b, a)):
+        if p.type in _ROTATIONAL and p.axis is not None:
+            if (q.type in _ROTATIONAL and q.axis == p.axis) or q.type == "cuboid":
+                return p.axis
+    return None
+
+
+def _axis_line(p: Primitive, axis: int) -> tuple[float, float]:
+    """The (u, v) coordinates of p's axis line along ``axis`` (u, v the other axes, in order)."""
+    if p.type in _ROTATIONAL:
+        u, v = p.detail["centre"]
+        return float(u), float(v)
+    others = [k for k in range(3) if k != axis]
+    return tuple(float((p.box[0][k] + p.box[1][k]) / 2) for k in others)  # type: ignore[return-value]
+
+
 def _pair_relations(a: Primitive, b: Primitive, rel_tol: float) -> list[tuple[tuple, Relation]]:
     """All relations of one pair (a.part < b.part), each with its sort key."""
     tol = rel_tol * min(box_diagonal(a.box), box_diagonal(b.box))
@@ -74,12 +98,14 @@ def _pair_relations(a: Primitive, b: Primitive, rel_tol: float) -> list[tuple[tu
         key = (a.part, b.part, RELATION_PREFERENCE[kind], axis, ends[0], ends[1])
         out.append((key, Relation(a.part, b.part, kind, axis, tol, detail)))
 
-    coaxial_axis: int | None = None
-    if a.type in _ROTATIONAL and b.type in _ROTATIONAL and a.axis == b.axis:
-        (ua, va), (ub, vb) = a.detail["centre"], b.detail["centre"]
+    coaxial_axis = _shared_axis(a, b)
+    if coaxial_axis is not None:
+        (ua, va), (ub, vb) = _axis_line(a, coaxial_axis), _axis_line(b, coaxial_axis)
         if math.hypot(ua - ub, va - vb) <= tol:
-            coaxial_axis = a.axis
-            add("coaxial", a.axis, {"line": [float((ua + ub) / 2), float((va + vb) / 2)]})
+            add("coaxial", coaxial_axis,
+                {"line": [float((ua + ub) / 2), float((va + vb) / 2)]})
+        else:
+            coaxial_axis = None
     for axis in range(3):
         # bisector (those across a coaxial pair's axis are implied by the coaxial relation)
         mid_a = (a.box[0][axis] + a.box[1][axis]) / 2

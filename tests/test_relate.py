@@ -92,12 +92,16 @@ def test_coaxial_cylinders_and_near_miss(offset, found):
         assert coax[0].detail["line"] == pytest.approx([0.3 * d, 0.4 * d])
 
 
-def test_coaxial_needs_two_rotational_primitives_on_one_axis():
+def test_coaxial_needs_a_rotational_primitive_on_the_axis():
     cyl = _round("a", "cylinder", 2, (0.0, 0.0), 0.5, 0.0, 1.0)
+    # a box centred on the cylinder's axis shares its axis line (its box centre line)
     box = _cuboid("b", (-0.5, -0.5, 1), (0.5, 0.5, 2))
     other_axis = _round("c", "cylinder", 0, (0.5, 0.5), 0.5, -0.5, 0.5)
-    rels = detect_relations([cyl, box, other_axis])
-    assert not [r for r in rels if r.type == "coaxial"]
+    off_box = _cuboid("d", (0.3, -0.5, 1), (1.3, 0.5, 2))  # centre line 0.8 off the axis
+    plain = _cuboid("e", (-0.5, -0.5, 2), (0.5, 0.5, 3))  # two cuboids: never coaxial
+    rels = detect_relations([cyl, box, other_axis, off_box, plain])
+    coax = {(r.a, r.b, r.axis) for r in rels if r.type == "coaxial"}
+    assert coax == {("a", "b", 2), ("a", "e", 2)}
 
 
 @pytest.mark.parametrize("factor, found", [(0.99, True), (1.01, False)])
