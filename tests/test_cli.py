@@ -11,7 +11,7 @@ import pytest
 
 from h2s_print.cli import main
 
-from .conftest import CONFIGS, REPO
+from conftest import CONFIGS, REPO
 
 EXAMPLE_CONFIGS = sorted(p for p in CONFIGS.glob("*.yaml") if p.name != "book.yaml")
 
