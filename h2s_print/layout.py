@@ -1,0 +1,1334 @@
+"""Layout stage (DESIGN.md §2.9): steps + templates + paper -> pages, every coordinate in mm.
+
+Nothing here draws: each page is a frozen :class:`Page` holding frozen items (:class:`Polyline`,
+:class:`Text`, :class:`Rect`, :class:`Circle`) in page millimetres, origin at the page's
+bottom-left corner, x to the right, y up (the sheet's own convention).  ``render.py`` turns
+pages into PDF/SVG/PNG.
+
+Public verbs: :func:`lay_out_workbook`, :func:`lay_out_sheet`, :func:`lay_out_book`, and
+:func:`primer_diagrams` (the primer's figures: ``h2s_print.constructions`` built in 3D on one
+face and projected by a ``h2s_print.project`` camera, isolated in one function).
+
+Decisions where the brief is silent (documented here, kept in one place):
+
+* **Steps per page**: novice workbooks show one step per page (bigger panel, more guides to
+  read); every other level two, side by side on a landscape page, stacked on a portrait page.
+* **Colours and greyscale**: each line style differs in weight *and* dash pattern so a greyscale
+  print stays readable (see :data:`STYLES` and the legend on every step page): earlier strokes
+  thin grey solid; this step's strokes thick orange solid; new guides orange dashed; guides
+  reused in this step blue dash-dot; guides still on the paper but idle in this step (alive,
+  waiting for a later use, paper §5 "guide lifetime") thin blue dotted; vanishing lines thin
+  light-grey long dashes.  A guide disappears after its last use (``Step.alive``).
+* **Vanishing lines** in a step panel: for each finite vanishing point, the two lines from the
+  VP that just enclose this step's new strokes (the outermost of the strokes' box corners as
+  seen from the VP), clipped to the panel; VPs inside the panel get a mark and a label.
+* **Frame and green corners**: the sheet's frame is the drawing area inside the paper margins;
+  its corners are green in every panel and on the calibrated sheet, so the two correspond.
+* **Estimated time**: :func:`estimate_minutes`, per step ``STEP_MINUTES[kind]`` plus half a
+  minute per new guide line, rounded up to 5 minutes (the paper reports 15-45 minutes per
+  tutorial).
+* **Text**: Helvetica only; characters outside Windows-1252 are spelled out (``⅓`` -> ``1/3``)
+  by :func:`plain_text` before measuring, so wrapped widths equal printed widths.
+* **Calibrated sheet**: an off-sheet vanishing point is an arrow on the frame (along the
+  horizon when the VP lies on it, else from the frame's centre) labelled with its distance from
+  the arrow's tip and its offset from the nearest green corner ("603 mm left, 48 mm down from
+  the top-left green corner"), so it can be found with a ruler on a larger surface.  Labels
+  that could collide (horizon, ground plane) take the first of a few positions that overlaps
+  no other text.
+* **Book outline**: a workbook label ``"Camera > front-left > novice"`` (parts joined by
+  :data:`OUTLINE_SEP`) gives outline levels tutorial > view > level; the workbook's own
+  bookmarks (cover, primer, steps ...) sit one level below.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, replace
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+
+from . import templates
+from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
+from .constructions import Face, construct
+from .errors import RenderError
+from .project import make_camera
+from .types import Guide, Stroke, ViewPlan
+
+log = logging.getLogger(__name__)
+
+PT_MM = 25.4 / 72.0  #: millimetres per PostScript point
+OUTLINE_SEP = " > "
+#: Minutes per step by ``Step.kind`` (plus :data:`GUIDE_MINUTES` per new guide).
+STEP_MINUTES = {"primitive": 3.0, "ellipse": 3.0, "contour": 2.0, "basic": 2.0}
+GUIDE_MINUTES = 0.5
+
+#: Colour roles used by items, as RGB in 0..1 (the renderer's palette).
+COLOURS: dict[str, tuple[float, float, float]] = {
+    "black": (0.0, 0.0, 0.0),
+    "grey": (0.55, 0.55, 0.55),
+    "lightgrey": (0.72, 0.72, 0.72),
+    "orange": (0.93, 0.45, 0.0),
+    "blue": (0.05, 0.33, 0.85),
+    "green": (0.0, 0.62, 0.23),
+    "white": (1.0, 1.0, 1.0),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class LineStyle:
+    """How one kind of line is drawn: colour role, width in mm, dash pattern in mm."""
+
+    colour: str
+    width_mm: float
+    dash_mm: tuple[float, ...] = ()
+
+
+#: Line styles by meaning (legend keys of ``templates/pages.yaml``).
+STYLES: dict[str, LineStyle] = {
+    "earlier": LineStyle("grey", 0.3),
+    "new": LineStyle("orange", 0.7),
+    "guide_new": LineStyle("orange", 0.35, (2.4, 1.2)),
+    "guide_reused": LineStyle("blue", 0.35, (2.4, 0.9, 0.5, 0.9)),
+    "guide_idle": LineStyle("blue", 0.2, (0.4, 1.0)),
+    "vanishing": LineStyle("lightgrey", 0.2, (5.0, 2.0)),
+    "corner": LineStyle("green", 0.8),
+    "frame": LineStyle("lightgrey", 0.2),
+    "final": LineStyle("black", 0.4),
+    "face": LineStyle("black", 0.4),
+    "construction": LineStyle("orange", 0.25, (1.6, 1.0)),
+    "result": LineStyle("orange", 0.6),
+}
+
+
+# ----------------------------------------------------------------------------- page items
+
+
+@dataclass(frozen=True, slots=True)
+class Polyline:
+    """An open or closed polyline.
+
+    Attributes:
+        points_mm: vertices on the page, mm.
+        colour: a key of :data:`COLOURS`.
+        width_mm: stroke width, mm.
+        dash_mm: dash pattern (on, off, ...) in mm; empty for solid.
+        closed: join the last vertex to the first.
+        role: what it shows (``stroke``, ``guide``, ``scale_bar`` ...), for tests and exports.
+    """
+
+    points_mm: tuple[tuple[float, float], ...]
+    colour: str = "black"
+    width_mm: float = 0.3
+    dash_mm: tuple[float, ...] = ()
+    closed: bool = False
+    role: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class Text:
+    """One line of Helvetica text (already :func:`plain_text`).
+
+    Attributes:
+        x_mm, y_mm: anchor point on the baseline, mm.
+        string: the text.
+        size_pt: font size, points.
+        font: ``Helvetica``, ``Helvetica-Bold`` or ``Helvetica-Oblique``.
+        anchor: ``start``, ``middle`` or ``end`` (which point of the line sits at ``x_mm``).
+        colour: a key of :data:`COLOURS`.
+        role: what it shows (``instruction``, ``title`` ...).
+    """
+
+    x_mm: float
+    y_mm: float
+    string: str
+    size_pt: float
+    font: str = "Helvetica"
+    anchor: str = "start"
+    colour: str = "black"
+    role: str = ""
+
+    @property
+    def box_mm(self) -> tuple[float, float, float, float]:
+        """(x0, y0, x1, y1) of the inked area, from descender to cap height, mm."""
+        width = text_width_mm(self.string, self.size_pt, self.font)
+        x0 = self.x_mm - {"start": 0.0, "middle": width / 2, "end": width}[self.anchor]
+        size = self.size_pt * PT_MM
+        return (x0, self.y_mm - 0.21 * size, x0 + width, self.y_mm + 0.72 * size)
+
+
+@dataclass(frozen=True, slots=True)
+class Rect:
+    """An axis-aligned rectangle: lower-left corner and size in mm, optional fill."""
+
+    x_mm: float
+    y_mm: float
+    w_mm: float
+    h_mm: float
+    colour: str | None = "black"
+    line_mm: float = 0.2
+    fill: str | None = None
+    role: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class Circle:
+    """A circle: centre and radius in mm, optional fill."""
+
+    cx_mm: float
+    cy_mm: float
+    r_mm: float
+    colour: str | None = "black"
+    line_mm: float = 0.2
+    fill: str | None = None
+    role: str = ""
+
+
+Item = Polyline | Text | Rect | Circle
+
+
+@dataclass(frozen=True, slots=True)
+class Bookmark:
+    """A PDF outline entry pointing at its page; ``level`` 0 is the top."""
+
+    title: str
+    level: int = 0
+
+
+@dataclass(frozen=True, slots=True)
+class Page:
+    """One laid-out page.
+
+    Attributes:
+        width_mm, height_mm: the page (= PDF MediaBox), mm.
+        items: drawn in order (later on top).
+        bookmarks: outline entries that point at this page, in outline order.
+        kind: ``cover``, ``primer``, ``steps``, ``final``, ``sheet``, ``title``, ``contents``.
+        title: the document title this page belongs to (PDF metadata).
+        margin_mm: the blank border the page was laid out with, mm.
+    """
+
+    width_mm: float
+    height_mm: float
+    items: tuple[Item, ...]
+    bookmarks: tuple[Bookmark, ...] = ()
+    kind: str = ""
+    title: str = ""
+    margin_mm: float = 12.0
+
+
+# ----------------------------------------------------------------------------- text
+
+
+# Advance widths (1/1000 em) of Windows-1252 bytes 32..255, from the standard Adobe AFM
+# metrics of Helvetica and Helvetica-Bold (Helvetica-Oblique shares Helvetica's).
+_HELVETICA = (
+    "278 278 355 556 556 889 667 191 333 333 389 584 278 333 278 278 556 556 556 556 556 556 "
+    "556 556 556 556 278 278 584 584 584 556 1015 667 667 722 722 667 611 778 722 278 500 667 "
+    "556 833 722 778 667 778 722 667 611 722 667 944 667 667 611 278 278 278 469 556 333 556 "
+    "556 500 556 556 278 556 556 222 222 500 222 833 556 556 556 556 333 500 278 556 500 722 "
+    "500 500 500 334 260 334 584 350 556 350 222 556 333 1000 556 556 333 1000 667 333 1000 "
+    "350 611 350 350 222 222 333 333 350 556 1000 333 1000 500 333 944 350 500 667 278 333 "
+    "556 556 556 556 260 556 333 737 370 556 584 333 737 333 400 584 333 333 333 556 537 278 "
+    "333 333 365 556 834 834 834 611 667 667 667 667 667 667 1000 722 667 667 667 667 278 278 "
+    "278 278 722 722 778 778 778 778 778 584 778 722 722 722 722 667 667 611 556 556 556 556 "
+    "556 556 889 500 556 556 556 556 278 278 278 278 556 556 556 556 556 556 556 584 611 556 "
+    "556 556 556 500 556 500"
+)
+_HELVETICA_BOLD = (
+    "278 333 474 556 556 889 722 238 333 333 389 584 278 333 278 278 556 556 556 556 556 556 "
+    "556 556 556 556 333 333 584 584 584 611 975 722 722 722 722 667 611 778 722 278 556 722 "
+    "611 833 722 778 667 778 722 667 611 722 667 944 667 667 611 333 278 333 584 556 333 556 "
+    "611 556 611 556 333 611 611 278 278 556 278 889 611 611 611 611 389 556 333 611 556 778 "
+    "556 556 500 389 280 389 584 350 556 350 278 556 500 1000 556 556 333 1000 667 333 1000 "
+    "350 611 350 350 278 278 500 500 350 556 1000 333 1000 556 333 944 350 500 667 278 333 "
+    "556 556 556 556 280 556 333 737 370 556 584 333 737 333 400 584 333 333 333 611 556 278 "
+    "333 333 365 556 834 834 834 611 722 722 722 722 722 722 1000 722 667 667 667 667 278 278 "
+    "278 278 722 722 778 778 778 778 778 584 778 722 722 722 722 667 667 611 556 556 556 556 "
+    "556 556 889 556 556 556 556 556 278 278 278 278 611 611 611 611 611 611 611 584 611 611 "
+    "611 611 611 556 611 556"
+)
+_WIDTHS = {
+    "Helvetica": tuple(int(w) for w in _HELVETICA.split()),
+    "Helvetica-Bold": tuple(int(w) for w in _HELVETICA_BOLD.split()),
+}
+_WIDTHS["Helvetica-Oblique"] = _WIDTHS["Helvetica"]
+FONTS = tuple(_WIDTHS)
+
+#: Spelled-out replacements for characters Helvetica (Windows-1252) cannot print.
+_SPELL = {
+    "⅓": "1/3", "⅔": "2/3", "⅛": "1/8", "⅜": "3/8", "⅝": "5/8", "⅞": "7/8", "⅕": "1/5",
+    "→": "->", "←": "<-", "↑": "^", "↓": "v", "≈": "~", "≤": "<=", "≥": ">=", "−": "-",
+    "×": "x", "\u2009": " ", "\u00a0": " ", "\u202f": " ", "\t": " ", "\n": " ",
+}
+
+
+def plain_text(string: str) -> str:
+    """``string`` with every character printable in Helvetica (Windows-1252)."""
+    out = []
+    for ch in str(string):
+        ch = _SPELL.get(ch, ch)
+        try:
+            ch.encode("cp1252")
+        except UnicodeEncodeError:
+            ch = "?"
+        out.append(ch)
+    return "".join(out)
+
+
+def text_width_mm(string: str, size_pt: float, font: str = "Helvetica") -> float:
+    """Advance width of ``string`` (already plain) set in ``font`` at ``size_pt``, mm."""
+    widths = _WIDTHS[font]
+    total = 0
+    for byte in string.encode("cp1252", errors="replace"):
+        total += widths[byte - 32] if byte >= 32 else 0
+    return total / 1000.0 * size_pt * PT_MM
+
+
+def wrap(string: str, width_mm: float, size_pt: float, font: str = "Helvetica") -> list[str]:
+    """Greedy word wrap of ``string`` into lines no wider than ``width_mm`` (long words split)."""
+    words = plain_text(string).split()
+    lines: list[str] = []
+    line = ""
+    for word in words:
+        while text_width_mm(word, size_pt, font) > width_mm and len(word) > 1:
+            cut = len(word) - 1
+            while cut > 1 and text_width_mm(word[:cut], size_pt, font) > width_mm:
+                cut -= 1
+            if line:
+                lines.append(line)
+                line = ""
+            lines.append(word[:cut])
+            word = word[cut:]
+        trial = f"{line} {word}" if line else word
+        if text_width_mm(trial, size_pt, font) <= width_mm:
+            line = trial
+        else:
+            lines.append(line)
+            line = word
+    if line:
+        lines.append(line)
+    return lines
+
+
+def _leading(size_pt: float) -> float:
+    """Baseline-to-baseline distance for ``size_pt`` text, mm."""
+    return 1.25 * size_pt * PT_MM
+
+
+def _paragraph(x: float, top: float, width: float, string: str, size: float, *,
+               font: str = "Helvetica", role: str = "", colour: str = "black",
+               anchor: str = "start") -> tuple[list[Text], float]:
+    """Wrapped text whose first line's cap height touches ``top``; returns items and the
+    y of the paragraph's bottom (last baseline's descender), mm."""
+    lines = wrap(string, width, size, font)
+    lead = _leading(size)
+    y = top - 0.72 * size * PT_MM
+    items = []
+    for line in lines:
+        items.append(Text(x, y, line, size, font, anchor, colour, role))
+        y -= lead
+    bottom = (y + lead) - 0.21 * size * PT_MM if lines else top
+    return items, bottom
+
+
+def _paragraph_height(string: str, width: float, size: float, font: str = "Helvetica") -> float:
+    n = len(wrap(string, width, size, font))
+    return 0.0 if n == 0 else (n - 1) * _leading(size) + 0.93 * size * PT_MM
+
+
+def _t(key: str, **fields) -> str:
+    return plain_text(templates.text("pages", key, **fields))
+
+
+# ----------------------------------------------------------------------------- geometry
+
+Pt = tuple[float, float]
+Box2 = tuple[float, float, float, float]  # x0, y0, x1, y1
+
+
+def _clip_segment(p: Pt, q: Pt, box: Box2) -> tuple[Pt, Pt] | None:
+    """Liang-Barsky: the part of segment pq inside ``box``, or None."""
+    x0, y0, x1, y1 = box
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    t0, t1 = 0.0, 1.0
+    for pk, qk in ((-dx, p[0] - x0), (dx, x1 - p[0]), (-dy, p[1] - y0), (dy, y1 - p[1])):
+        if pk == 0:
+            if qk < 0:
+                return None
+            continue
+        t = qk / pk
+        if pk < 0:
+            t0 = max(t0, t)
+        else:
+            t1 = min(t1, t)
+        if t0 > t1:
+            return None
+    return ((p[0] + t0 * dx, p[1] + t0 * dy), (p[0] + t1 * dx, p[1] + t1 * dy))
+
+
+def clip_polyline(points: Sequence[Pt], box: Box2, closed: bool = False) -> list[list[Pt]]:
+    """Pieces of a polyline inside ``box`` (each piece a list of >= 2 points)."""
+    pts = list(points)
+    if closed and len(pts) > 2:
+        pts = pts + [pts[0]]
+    pieces: list[list[Pt]] = []
+    current: list[Pt] = []
+    for p, q in zip(pts, pts[1:]):
+        seg = _clip_segment(p, q, box)
+        if seg is None:
+            if len(current) >= 2:
+                pieces.append(current)
+            current = []
+            continue
+        a, b = seg
+        if current and math.dist(current[-1], a) < 1e-9:
+            current.append(b)
+        else:
+            if len(current) >= 2:
+                pieces.append(current)
+            current = [a, b]
+        if math.dist(b, q) > 1e-9:  # left the box: the piece ends here
+            pieces.append(current)
+            current = []
+    if len(current) >= 2:
+        pieces.append(current)
+    return pieces
+
+
+def _bbox(points: Iterable[Pt]) -> Box2 | None:
+    pts = list(points)
+    if not pts:
+        return None
+    xs = [p[0] for p in pts]
+    ys = [p[1] for p in pts]
+    return (min(xs), min(ys), max(xs), max(ys))
+
+
+@dataclass(frozen=True, slots=True)
+class _View:
+    """Maps a window of sheet mm onto a page rectangle (uniform scale), clipping to it."""
+
+    window: Box2  # sheet mm
+    rect: Box2  # page mm, same aspect as window
+
+    @property
+    def scale(self) -> float:
+        return (self.rect[2] - self.rect[0]) / (self.window[2] - self.window[0])
+
+    def map(self, p: Pt) -> Pt:
+        s = self.scale
+        return (self.rect[0] + (p[0] - self.window[0]) * s, self.rect[1] + (p[1] - self.window[1]) * s)
+
+    def lines(self, points: Sequence[Pt], style: LineStyle, role: str,
+              closed: bool = False) -> list[Polyline]:
+        mapped = [self.map(p) for p in points]
+        # A hair of slack so lines lying exactly on the rectangle's edge survive rounding.
+        x0, y0, x1, y1 = self.rect
+        box = (x0 - 1e-7, y0 - 1e-7, x1 + 1e-7, y1 + 1e-7)
+        return [Polyline(tuple(piece), style.colour, style.width_mm, style.dash_mm, False, role)
+                for piece in clip_polyline(mapped, box, closed)]
+
+
+def _fit(window: Box2, area: Box2, top: bool = False) -> _View:
+    """The largest rectangle of ``window``'s aspect in ``area``: centred, or (``top``) centred
+    horizontally and touching the area's top."""
+    ww, wh = window[2] - window[0], window[3] - window[1]
+    aw, ah = area[2] - area[0], area[3] - area[1]
+    s = min(aw / ww, ah / wh)
+    x0 = area[0] + (aw - ww * s) / 2
+    y0 = area[3] - wh * s if top else area[1] + (ah - wh * s) / 2
+    return _View(window, (x0, y0, x0 + ww * s, y0 + wh * s))
+
+
+def _green_corners(frame: Box2, arm: float, style: LineStyle = STYLES["corner"]) -> list[Polyline]:
+    x0, y0, x1, y1 = frame
+    out = []
+    for cx, cy, sx, sy in ((x0, y0, 1, 1), (x1, y0, -1, 1), (x1, y1, -1, -1), (x0, y1, 1, -1)):
+        out.append(Polyline(((cx + sx * arm, cy), (cx, cy), (cx, cy + sy * arm)),
+                            style.colour, style.width_mm, (), False, "corner"))
+    return out
+
+
+def _arrow(tip: Pt, direction: Pt, length: float, colour: str, width: float, role: str) -> list[Polyline]:
+    """A shaft ending at ``tip`` pointing along ``direction`` with a two-stroke head."""
+    dx, dy = direction
+    n = math.hypot(dx, dy) or 1.0
+    dx, dy = dx / n, dy / n
+    tail = (tip[0] - dx * length, tip[1] - dy * length)
+    head = min(2.5, length / 2)
+    left = (tip[0] - head * (dx * 0.87 - dy * 0.5), tip[1] - head * (dy * 0.87 + dx * 0.5))
+    right = (tip[0] - head * (dx * 0.87 + dy * 0.5), tip[1] - head * (dy * 0.87 - dx * 0.5))
+    return [Polyline((tail, tip), colour, width, (), False, role),
+            Polyline((left, tip, right), colour, width, (), False, role)]
+
+
+# ----------------------------------------------------------------------------- drawing panels
+
+
+def _frame_box(sheet: tuple[float, float], margin: float) -> Box2:
+    return (margin, margin, sheet[0] - margin, sheet[1] - margin)
+
+
+def _window(sheet: tuple[float, float]) -> Box2:
+    """The whole sheet: panels clip to the paper, so vanishing lines end where they leave it."""
+    return (0.0, 0.0, float(sheet[0]), float(sheet[1]))
+
+
+def _sheet_background(view: _View, sheet: tuple[float, float], margin: float) -> list[Item]:
+    """Paper outline (light) and the frame with green corners, in a panel."""
+    s = view.scale
+    p0, p1 = view.map((0.0, 0.0)), view.map(sheet)
+    f = _frame_box(sheet, margin)
+    f0, f1 = view.map((f[0], f[1])), view.map((f[2], f[3]))
+    items: list[Item] = [Rect(p0[0], p0[1], p1[0] - p0[0], p1[1] - p0[1], "lightgrey", 0.2,
+                              None, "paper")]
+    arm = max(3.0, 0.08 * min(sheet) * s)
+    items += _green_corners((f0[0], f0[1], f1[0], f1[1]), arm)
+    return items
+
+
+def _step_guides(plan: ViewPlan, i: int) -> list[tuple[Guide, str]]:
+    """Guides drawn at step ``i`` (0-based) with their style key, in a stable order.
+
+    This step's guides (new / reused) plus guides still alive from earlier steps that this step
+    does not use (idle, waiting for a later step): their geometry is their latest earlier use.
+    """
+    step = plan.steps[i]
+    out: list[tuple[Guide, str]] = []
+    used = set()
+    for g in step.guides:
+        out.append((g, "guide_new" if g.status == "new" else "guide_reused"))
+        used.add(g.id)
+    for gid in step.alive:
+        if gid in used:
+            continue
+        for earlier in reversed(plan.steps[:i]):
+            match = next((g for g in earlier.guides if g.id == gid), None)
+            if match is not None:
+                out.append((match, "guide_idle"))
+                used.add(gid)
+                break
+    # Draw idle first (under), then reused, then new on top.
+    order = {"guide_idle": 0, "guide_reused": 1, "guide_new": 2}
+    return sorted(out, key=lambda gs: order[gs[1]])
+
+
+def _erasable(plan: ViewPlan, i: int) -> int:
+    """Guide lines shown at step ``i`` that are no longer shown at step ``i + 1``."""
+    if i + 1 >= len(plan.steps):
+        return 0
+    shown = {g.id for g, _ in _step_guides(plan, i)}
+    later = {g.id for g, _ in _step_guides(plan, i + 1)}
+    return len(shown - later)
+
+
+def _stroke_points(strokes: Iterable[Stroke]) -> list[Pt]:
+    return [tuple(p) for s in strokes for p in s.points_mm]  # type: ignore[misc]
+
+
+def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> list[Item]:
+    """Two lines per finite VP enclosing ``strokes``, clipped to the panel; VP marks inside it."""
+    box = _bbox(_stroke_points(strokes))
+    items: list[Item] = []
+    style = STYLES["vanishing"]
+    axes = templates.lookup("pages", "axes")
+    for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
+        if vp.at_infinity or vp.xy_mm is None:
+            continue
+        v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
+        if box is not None:
+            corners = [(box[0], box[1]), (box[2], box[1]), (box[2], box[3]), (box[0], box[3])]
+            ref = math.atan2(((box[1] + box[3]) / 2) - v[1], ((box[0] + box[2]) / 2) - v[0])
+            def rel(c: Pt) -> float:
+                a = math.atan2(c[1] - v[1], c[0] - v[0]) - ref
+                return (a + math.pi) % (2 * math.pi) - math.pi
+            spread = sorted(corners, key=rel)
+            for corner in (spread[0], spread[-1]):
+                if math.dist(corner, v) < 1e-6:
+                    continue
+                # From beyond the corner (a quarter of the way back past it) to the VP.
+                start = (corner[0] + 0.25 * (corner[0] - v[0]), corner[1] + 0.25 * (corner[1] - v[1]))
+                items += view.lines([start, v], style, "vanishing")
+        p = view.map(v)
+        r = view.rect
+        if r[0] <= p[0] <= r[2] and r[1] <= p[1] <= r[3]:
+            items.append(Circle(p[0], p[1], 0.9, "black", 0.25, None, "vp"))
+            label = _t("sheet.vp", axis=axes[vp.axis])
+            anchor = "end" if p[0] > (r[0] + r[2]) / 2 else "start"
+            dx = -1.6 if anchor == "end" else 1.6
+            ty = p[1] + 1.2 if p[1] + 4 < r[3] else p[1] - 3.2
+            items.append(Text(p[0] + dx, ty, label, 7, "Helvetica", anchor, "black", "vp_label"))
+    return items
+
+
+def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item]:
+    """The cumulative drawing at step ``i`` (0-based) in ``view``."""
+    step = plan.steps[i]
+    items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
+    items += _vanishing_lines(view, plan, step.strokes)
+    for earlier in plan.steps[:i]:
+        for s in earlier.strokes:
+            items += view.lines(s.points_mm, STYLES["earlier"], "stroke_earlier")
+    for g, key in _step_guides(plan, i):
+        items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
+    for s in step.strokes:
+        items += view.lines(s.points_mm, STYLES["new"], "stroke_new")
+    return items
+
+
+# ----------------------------------------------------------------------------- page furniture
+
+
+@dataclass(frozen=True, slots=True)
+class _Frame:
+    """The page's content area inside its margins, mm."""
+
+    width: float
+    height: float
+    margin: float
+
+    @property
+    def box(self) -> Box2:
+        return (self.margin, self.margin, self.width - self.margin, self.height - self.margin)
+
+
+def _header(f: _Frame, left: str, right: str = "") -> tuple[list[Item], float]:
+    """Title line at the top of the content area; returns items and the y below it, mm."""
+    x0, _, x1, y1 = f.box
+    size = 11.0
+    base = y1 - 0.72 * size * PT_MM
+    items: list[Item] = []
+    right_w = text_width_mm(right, 9, "Helvetica") if right else 0.0
+    avail = x1 - x0 - right_w - 6
+    left_line = wrap(left, avail, size, "Helvetica-Bold")[:1]
+    if left_line:
+        items.append(Text(x0, base, left_line[0], size, "Helvetica-Bold", "start", "black", "header"))
+    if right:
+        items.append(Text(x1, base, right, 9, "Helvetica", "end", "black", "header"))
+    rule_y = base - 2.6
+    items.append(Polyline(((x0, rule_y), (x1, rule_y)), "lightgrey", 0.3, (), False, "rule"))
+    return items, rule_y - 3.0
+
+
+def _legend(f: _Frame, y: float, keys: Sequence[str]) -> tuple[list[Item], float]:
+    """A key of line styles starting at baseline ``y`` (wrapping rows upward); returns the top."""
+    x0, _, x1, _ = f.box
+    size = 7.0
+    swatch, gap = 9.0, 4.0
+    entries = [(k, _t(f"legend.{k}")) for k in keys]
+    rows: list[list[tuple[str, str, float]]] = [[]]
+    head = _t("legend.heading")
+    x = x0 + text_width_mm(head, size, "Helvetica-Bold") + 2
+    for k, label in entries:
+        w = swatch + 1.5 + text_width_mm(label, size)
+        if x + w > x1 and rows[-1]:
+            rows.append([])
+            x = x0
+        rows[-1].append((k, label, x))
+        x += w + gap
+    items: list[Item] = [Text(x0, y + (len(rows) - 1) * 4.0, head, size, "Helvetica-Bold", "start",
+                              "black", "legend")]
+    for r, row in enumerate(rows):
+        yy = y + (len(rows) - 1 - r) * 4.0
+        for k, label, xx in row:
+            st = STYLES[k]
+            mid = yy + 0.9
+            if k == "corner":
+                items.append(Polyline(((xx + 2.5, mid + 1.3), (xx + 2.5, mid - 1.3), (xx + 6.5, mid - 1.3)),
+                                      st.colour, st.width_mm, (), False, "legend"))
+            else:
+                items.append(Polyline(((xx, mid), (xx + swatch, mid)), st.colour, st.width_mm,
+                                      st.dash_mm, False, "legend"))
+            items.append(Text(xx + swatch + 1.5, yy, label, size, "Helvetica", "start", "black", "legend"))
+    return items, y + (len(rows) - 1) * 4.0 + 0.72 * size * PT_MM
+
+
+def _footer_y(f: _Frame) -> float:
+    return f.margin + 0.8
+
+
+def _with_footers(pages: Sequence[Page], make: Callable[[int, int], str]) -> tuple[Page, ...]:
+    """Replace every page-number footer with ``make(page_no, total)`` (sheets have none)."""
+    out = []
+    total = len(pages)
+    for n, page in enumerate(pages, start=1):
+        items = tuple(it for it in page.items if getattr(it, "role", "") != "page_number")
+        if page.kind != "sheet":
+            f = _Frame(page.width_mm, page.height_mm, page.margin_mm)
+            items += (Text(f.box[2], _footer_y(f), make(n, total), 7, "Helvetica", "end", "grey",
+                           "page_number"),)
+        out.append(replace(page, items=items))
+    return tuple(out)
+
+
+# ----------------------------------------------------------------------------- primer
+
+
+@dataclass(frozen=True, slots=True)
+class PrimerDiagram:
+    """One primer construction: segments in an arbitrary diagram frame (y up).
+
+    Attributes:
+        key: ``half``, ``quarter``, ``third``, ``extend`` or ``extend_half`` (the template key
+            under ``primer.diagrams``).
+        segments: ``((x0, y0), (x1, y1), role)``; role ``face`` (the given face), ``construction``
+            (helper lines) or ``result`` (the line the construction yields).
+    """
+
+    key: str
+    segments: tuple[tuple[Pt, Pt, str], ...]
+
+
+#: Primer diagrams: template key -> ratios constructed on one face (``h2s_print.constructions``).
+PRIMER_RATIOS: tuple[tuple[str, tuple[float, ...]], ...] = (
+    ("half", (0.5,)), ("quarter", (0.25, 0.75)), ("third", (1 / 3, 2 / 3)),
+    ("extend", (2.0,)), ("extend_half", (1.5,)),
+)
+
+
+def primer_diagrams() -> tuple[PrimerDiagram, ...]:
+    """The primer's constructions, built in 3D on one box face and projected (two-point view).
+
+    Each diagram is the face ``x in [0, 1], z in [0, 1.25]`` at ``y = 0`` seen from the
+    front-right, with the lines of ``h2s_print.constructions.construct`` for its ratios (shared
+    lines once), projected by a camera from ``h2s_print.project.make_camera``; so every crossing
+    the diagram shows is where a ruler construction on paper lands.  Extensions also show the
+    new face's top and bottom edges as results.  Coordinates are that camera's sheet mm (the
+    page fits them into a cell).
+    """
+    face = Face(((0.0, 0.0, 0.0), (1.0, 1.0, 1.25)), 1, "lo")
+    frame = [face.point(u, v) for u in (0.0, 2.0) for v in (0.0, 1.0)]
+    view = ViewSpec("primer", azimuth_deg=40.0, elevation_deg=4.0, distance=2.2,
+                    perspective="two-point")
+    camera = make_camera(view, frame, PaperSpec("A4", "landscape", 12.0))
+
+    def mm(p) -> Pt:
+        x, y = camera.project([p])[0]
+        return (round(float(x), 6), round(float(y), 6))
+
+    out = []
+    for key, ratios in PRIMER_RATIOS:
+        a, b, c, d = face.corners
+        segs: list[tuple[Pt, Pt, str]] = [(mm(a), mm(b), "face"), (mm(b), mm(c), "face"),
+                                          (mm(c), mm(d), "face"), (mm(d), mm(a), "face")]
+        seen = {frozenset((s[0], s[1])) for s in segs}
+        for ratio in ratios:
+            con = construct(face, 0, ratio)
+            lines = [(ln.start, ln.end, "result" if ln.role == "guide" else "construction")
+                     for ln in con.lines]
+            if ratio > 1:
+                lines += [(face.point(1, 0), face.point(ratio, 0), "result"),
+                          (face.point(1, 1), face.point(ratio, 1), "result")]
+            for p, q, role in lines:
+                seg = (mm(p), mm(q), role)
+                if frozenset(seg[:2]) not in seen:
+                    seen.add(frozenset(seg[:2]))
+                    segs.append(seg)
+        out.append(PrimerDiagram(key, tuple(segs)))
+    return tuple(out)
+
+
+def _primer_page(f: _Frame, title: str, header_right: str,
+                 diagrams: Sequence[PrimerDiagram]) -> Page:
+    items: list[Item] = []
+    head, top = _header(f, _t("primer.heading"), header_right)
+    items += head
+    x0, y0, x1, _ = f.box
+    intro, top = _paragraph(x0, top, x1 - x0, _t("primer.intro"), 9.5, role="intro")
+    items += intro
+    legend, legend_top = _legend(f, _footer_y(f) + 5.0, ["face", "construction", "result"])
+    items += legend
+    cols = 3 if f.width > f.height else 2
+    rows = math.ceil(len(diagrams) / cols)
+    gap = 6.0
+    area_top = top - 4.0
+    area_bottom = legend_top + 4.0
+    cw = (x1 - x0 - gap * (cols - 1)) / cols
+    ch = (area_top - area_bottom - gap * (rows - 1)) / rows
+    size = 8.0
+    for k, d in enumerate(diagrams):
+        r, c = divmod(k, cols)
+        cx0 = x0 + c * (cw + gap)
+        ctop = area_top - r * (ch + gap)
+        title_items, below = _paragraph(cx0, ctop, cw, _t(f"primer.diagrams.{d.key}.title"), 9,
+                                        font="Helvetica-Bold", role="primer_title")
+        items += title_items
+        steps = templates.lookup("pages", f"primer.diagrams.{d.key}.steps")
+        texts = [plain_text(f"{n}. {s}") for n, s in enumerate(steps, start=1)]
+        text_h = sum(_paragraph_height(s, cw, size) + 1.0 for s in texts)
+        diagram_area = (cx0, ctop - ch + text_h + 2.0, cx0 + cw, below - 2.0)
+        pts = [p for a, b, _ in d.segments for p in (a, b)]
+        box = _bbox(pts)
+        if box is not None and diagram_area[3] - diagram_area[1] > 5:
+            view = _fit(box, diagram_area)
+            for a, b, role in sorted(d.segments, key=lambda s: ("face", "construction", "result").index(s[2])):
+                items += view.lines([a, b], STYLES[role], f"primer_{role}")
+        y = ctop - ch + text_h
+        for s in texts:
+            para, bottom = _paragraph(cx0, y, cw, s, size, role="primer_step")
+            items += para
+            y = bottom - 1.0
+    return Page(f.width, f.height, tuple(items), (Bookmark(_t("primer.bookmark")),), "primer", title, f.margin)
+
+
+# ----------------------------------------------------------------------------- workbook
+
+
+def estimate_minutes(plan: ViewPlan) -> int:
+    """Estimated time to work through ``plan``: per step ``STEP_MINUTES[kind]`` (2 min for
+    unknown kinds) plus ``GUIDE_MINUTES`` per new guide, rounded up to 5 minutes (>= 5)."""
+    total = 0.0
+    for step in plan.steps:
+        total += STEP_MINUTES.get(step.kind, 2.0)
+        total += GUIDE_MINUTES * sum(1 for g in step.guides if g.status == "new")
+    return max(5, int(math.ceil(total / 5.0 - 1e-9)) * 5)
+
+
+def _level_name(level: str) -> str:
+    try:
+        return _t(f"levels.{level}")
+    except KeyError:
+        return plain_text(level)
+
+
+def _final_strokes(plan: ViewPlan, final: Sequence[Stroke]) -> tuple[Stroke, ...]:
+    return tuple(final) if final else tuple(s for st in plan.steps for s in st.strokes)
+
+
+def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
+                final: Sequence[Stroke]) -> Page:
+    items: list[Item] = []
+    x0, y0, x1, y1 = f.box
+    landscape = f.width > f.height
+    text_w = (x1 - x0) * (0.45 if landscape else 1.0)
+    top = y1
+    kick, top = _paragraph(x0, top, text_w, _t("cover.kicker"), 11, role="kicker", colour="grey")
+    items += kick
+    heading, top = _paragraph(x0, top - 4, text_w, title, 26, font="Helvetica-Bold", role="title")
+    items += heading
+    top -= 6
+    facts = [_t("cover.view", view=view_label), _t("cover.level", level=_level_name(plan.level)),
+             _t("cover.steps", n=len(plan.steps)),
+             _t("cover.time", minutes=estimate_minutes(plan))]
+    for fact in facts:
+        para, top = _paragraph(x0, top, text_w, fact, 12, role="cover_fact")
+        items += para
+        top -= 2.5
+    top -= 5
+    how_h, top = _paragraph(x0, top, text_w, _t("cover.how_heading"), 11, font="Helvetica-Bold",
+                            role="how")
+    items += how_h
+    top -= 2
+    for line in templates.lookup("pages", "cover.how"):
+        para, top = _paragraph(x0 + 4, top, text_w - 4, plain_text(line), 9.5, role="how")
+        items.append(Circle(x0 + 1.2, para[0].y_mm + 1.1, 0.6, None, 0.0, "black", "bullet"))
+        items += para
+        top -= 2
+    # The finished drawing, zoomed on its own extent.
+    if landscape:
+        area = (x0 + text_w + 12, y0 + 14, x1, y1 - 8)
+    else:
+        area = (x0, y0 + 14, x1, top - 14)
+    strokes = _final_strokes(plan, final)
+    box = _bbox(_stroke_points(strokes))
+    if box is not None and area[3] - area[1] > 10:
+        pad = 0.06 * max(box[2] - box[0], box[3] - box[1], 1e-6)
+        window = (box[0] - pad, box[1] - pad, box[2] + pad, box[3] + pad)
+        view = _fit(window, area)
+        items.append(Rect(view.rect[0], view.rect[1], view.rect[2] - view.rect[0],
+                          view.rect[3] - view.rect[1], "lightgrey", 0.3, None, "image_frame"))
+        for s in strokes:
+            items += view.lines(s.points_mm, STYLES["final"], "stroke_final")
+        items.append(Text(view.rect[0], view.rect[3] + 2.0, _t("cover.image_caption"), 9,
+                          "Helvetica-Oblique", "start", "grey", "image_caption"))
+    return Page(f.width, f.height, tuple(items), (Bookmark(_t("cover.bookmark")),), "cover", title, f.margin)
+
+
+def _steps_per_page(plan: ViewPlan) -> int:
+    return 1 if plan.level == "novice" else 2
+
+
+def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[Page]:
+    n = len(plan.steps)
+    per = _steps_per_page(plan)
+    level = _level_name(plan.level)
+    size = 11.0 if per == 1 else 10.0
+    pages = []
+    legend_keys = ["earlier", "new", "guide_new", "guide_reused", "guide_idle", "vanishing", "corner"]
+    margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
+    for first in range(0, n, per):
+        idx = list(range(first, min(n, first + per)))
+        if len(idx) == 1:
+            rng = _t("step.range_one", first=idx[0] + 1, n=n)
+            mark = _t("step.bookmark_one", first=idx[0] + 1)
+        else:
+            rng = _t("step.range_many", first=idx[0] + 1, last=idx[-1] + 1, n=n)
+            mark = _t("step.bookmark_many", first=idx[0] + 1, last=idx[-1] + 1)
+        items: list[Item] = []
+        head, top = _header(f, _t("step.header", title=title, view=view_label, level=level), rng)
+        items += head
+        legend, legend_top = _legend(f, _footer_y(f) + 5.0, legend_keys)
+        items += legend
+        x0, _, x1, _ = f.box
+        bottom = legend_top + 4.0
+        gap = 8.0
+        side_by_side = f.width > f.height
+        slots: list[Box2] = []
+        for k in range(per):
+            if side_by_side:
+                w = (x1 - x0 - gap * (per - 1)) / per
+                slots.append((x0 + k * (w + gap), bottom, x0 + k * (w + gap) + w, top))
+            else:
+                h = (top - bottom - gap * (per - 1)) / per
+                slots.append((x0, top - k * (h + gap) - h, x1, top - k * (h + gap)))
+        # One text height for the page's slots so panels line up.
+        texts = []
+        for i in idx:
+            step = plan.steps[i]
+            extra = _erasable(plan, i)
+            hint = "" if extra == 0 else (_t("step.erase_one") if extra == 1
+                                          else _t("step.erase_many", n=extra))
+            texts.append((step, hint))
+        sw = slots[0][2] - slots[0][0]
+        text_h = max(
+            6.5 + _paragraph_height(step.text, sw, size)
+            + (_paragraph_height(hint, sw, 8.5) + 2.0 if hint else 0.0)
+            for step, hint in texts)
+        for (step, hint), slot, i in zip(texts, slots, idx):
+            sx0, sy0, sx1, sy1 = slot
+            view = _fit(_window(plan.paper_mm), (sx0, sy0 + text_h + 4.0, sx1, sy1), top=True)
+            items += _step_panel(view, plan, i, margin_sheet)
+            ttop = view.rect[1] - 3.0
+            items.append(Text(sx0, ttop - 0.72 * 12 * PT_MM, _t("step.number", index=step.index),
+                              12, "Helvetica-Bold", "start", "black", "step_number"))
+            para, below = _paragraph(sx0, ttop - 6.5, sw, step.text, size, role="instruction")
+            items += para
+            if hint:
+                para, _ = _paragraph(sx0, below - 2.0, sw, hint, 8.5, font="Helvetica-Oblique",
+                                     role="erase_hint", colour="grey")
+                items += para
+        pages.append(Page(f.width, f.height, tuple(items), (Bookmark(mark),), "steps", title, f.margin))
+    return pages
+
+
+def _final_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
+                final: Sequence[Stroke]) -> Page:
+    items: list[Item] = []
+    head, top = _header(f, _t("final.heading"),
+                        _t("step.header", title=title, view=view_label, level=_level_name(plan.level)))
+    items += head
+    x0, _, x1, _ = f.box
+    cap_h = _paragraph_height(_t("final.caption"), x1 - x0, 9.5)
+    bottom = _footer_y(f) + 6.0
+    view = _fit(_window(plan.paper_mm), (x0, bottom + cap_h + 4.0, x1, top))
+    items += _sheet_background(view, plan.paper_mm, f.margin)
+    for s in _final_strokes(plan, final):
+        items += view.lines(s.points_mm, STYLES["final"], "stroke_final")
+    para, _ = _paragraph(x0, view.rect[1] - 3.0, x1 - x0, _t("final.caption"), 9.5, role="caption")
+    items += para
+    return Page(f.width, f.height, tuple(items), (Bookmark(_t("final.bookmark")),), "final", title, f.margin)
+
+
+def _check_paper(paper: PaperSpec) -> float:
+    if not (paper.margin_mm >= MIN_MARGIN_MM):
+        raise RenderError(f"paper.margin_mm: {paper.margin_mm} mm is below the {MIN_MARGIN_MM} mm "
+                          "printers need")
+    if min(paper.width_mm, paper.height_mm) < 4 * paper.margin_mm + 60:
+        raise RenderError(f"paper.margin_mm: {paper.margin_mm} mm leaves no room on "
+                          f"{paper.size} paper")
+    return float(paper.margin_mm)
+
+
+def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label: str,
+                     final: tuple[Stroke, ...] = (), margin_mm: float | None = None
+                     ) -> tuple[Page, ...]:
+    """Every page of one workbook (one model, view and level), laid out in mm.
+
+    Pages: cover, primer, step pages (1 step per page for novices, else 2), the finished
+    drawing, and the calibrated drawing sheet (:func:`lay_out_sheet`, at ``plan.paper_mm``).
+
+    Args:
+        title: the tutorial's title (config ``title``).
+        plan: the view's steps, camera and vanishing points.
+        paper: the workbook's paper size, orientation and margins.
+        view_label: the view's name as shown to the reader.
+        final: the finished drawing's strokes (sheet mm); default: every step's strokes.
+        margin_mm: margin of the drawing sheet's frame, mm; default ``paper.margin_mm``.
+
+    Returns:
+        The pages in print order, page numbers in the footers, bookmarks attached.
+
+    Raises:
+        RenderError: margins below 5 mm or leaving no room, or a plan without steps.
+    """
+    margin = _check_paper(paper)
+    if not plan.steps:
+        raise RenderError(f"view {plan.name!r} ({plan.level}): no steps to lay out")
+    sheet_margin = margin if margin_mm is None else float(margin_mm)
+    f = _Frame(paper.width_mm, paper.height_mm, margin)
+    title = plain_text(title)
+    view_label = plain_text(view_label)
+    level = _level_name(plan.level)
+    right = _t("step.header", title=title, view=view_label, level=level)
+    pages: list[Page] = [_cover_page(f, title, plan, view_label, final)]
+    pages.append(_primer_page(f, title, right, primer_diagrams()))
+    pages += _step_pages(f, title, plan, view_label)
+    pages.append(_final_page(f, title, plan, view_label, final))
+    pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label))
+    return _with_footers(pages, lambda n, total: _t("footer", title=title, view=view_label,
+                                                    level=level, page=n, pages=total))
+
+
+# ----------------------------------------------------------------------------- calibrated sheet
+
+
+def horizon_line(plan: ViewPlan) -> tuple[float, float, float] | None:
+    """The horizon as ``(a, b, c)`` with ``a x + b y + c = 0`` on the sheet (mm), ``(a, b)`` unit.
+
+    It is the vanishing line of horizontal planes: ``l = M^-T (0, 0, 1)`` with ``M`` the left
+    3x3 block of ``projection_mm``.  ``None`` when the camera looks straight down or up.
+    """
+    m = np.asarray(plan.camera.projection_mm, dtype=float)[:, :3]
+    try:
+        line = np.linalg.solve(m.T, np.array([0.0, 0.0, 1.0]))
+    except np.linalg.LinAlgError:
+        return None
+    n = math.hypot(line[0], line[1])
+    if n < 1e-12 * max(1.0, abs(line[2])):
+        return None
+    return (float(line[0] / n), float(line[1] / n), float(line[2] / n))
+
+
+def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
+    """The first scaffold step's bottom face projected on the sheet: ``(part, 4 corners mm)``.
+
+    The face is the bottom (lowest z) face of the 3D box around that step's stroke points.
+    """
+    for step in plan.steps:
+        if step.kind not in ("primitive", "basic") or not step.strokes:
+            continue
+        pts = np.array([p for s in step.strokes for p in s.points3d], dtype=float)
+        if len(pts) == 0:
+            continue
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+        z = lo[2]
+        corners = [(lo[0], lo[1], z), (hi[0], lo[1], z), (hi[0], hi[1], z), (lo[0], hi[1], z)]
+        if np.any(plan.camera.depth(corners) <= 0):
+            return None
+        proj = plan.camera.project(corners)
+        part = step.part or (step.strokes[0].part if step.strokes else "")
+        return part, tuple((float(x), float(y)) for x, y in proj)
+    return None
+
+
+def _edge_exit(centre: Pt, direction: Pt, box: Box2) -> tuple[Pt, str]:
+    """Where the ray from ``centre`` along ``direction`` leaves ``box``, and which edge."""
+    dx, dy = direction
+    best = (math.inf, "right")
+    x0, y0, x1, y1 = box
+    if dx > 1e-12:
+        best = min(best, ((x1 - centre[0]) / dx, "right"))
+    if dx < -1e-12:
+        best = min(best, ((x0 - centre[0]) / dx, "left"))
+    if dy > 1e-12:
+        best = min(best, ((y1 - centre[1]) / dy, "top"))
+    if dy < -1e-12:
+        best = min(best, ((y0 - centre[1]) / dy, "bottom"))
+    t, edge = best
+    return (centre[0] + t * dx, centre[1] + t * dy), edge
+
+
+def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2) -> bool:
+    """True when ``texts`` lie inside ``frame`` and overlap no text already in ``items``."""
+    placed = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+    for t in texts:
+        x0, y0, x1, y1 = t.box_mm
+        if x0 < frame[0] or y0 < frame[1] or x1 > frame[2] or y1 > frame[3]:
+            return False
+        if any(min(x1, b[2]) > max(x0, b[0]) and min(y1, b[3]) > max(y0, b[1]) for b in placed):
+            return False
+    return True
+
+
+def _corner_offset(v: Pt, frame: Box2) -> str:
+    """Where ``v`` lies from the nearest green frame corner, in words (mm along x and y)."""
+    corners = {"bottom_left": (frame[0], frame[1]), "bottom_right": (frame[2], frame[1]),
+               "top_right": (frame[2], frame[3]), "top_left": (frame[0], frame[3])}
+    key = min(corners, key=lambda k: (math.dist(corners[k], v), k))
+    c = corners[key]
+    dx, dy = v[0] - c[0], v[1] - c[1]
+    return _t("sheet.vp_offset", dx=f"{abs(dx):.0f}", dy=f"{abs(dy):.0f}",
+              hdir=_t("sheet.right" if dx >= 0 else "sheet.left"),
+              vdir=_t("sheet.up" if dy >= 0 else "sheet.down"),
+              corner=_t(f"sheet.corners.{key}"))
+
+
+def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_label: str = "",
+                  ground_mm: Sequence[Pt] | None = None) -> Page:
+    """The calibrated drawing sheet at true scale: 1 sheet mm is 1 page mm.
+
+    The page is ``plan.paper_mm``.  It shows the frame (the paper margins) with green corners,
+    each vanishing point (a mark when on the paper; otherwise an arrow on the frame pointing at
+    it with its distance from the arrow's tip), the horizon, the ground plane of the first
+    primitive (``ground_mm`` or :func:`first_ground_quad`), four registration marks in the
+    margin band and a 100 mm scale bar with "print at 100% (actual size)".
+
+    Args:
+        title: the tutorial's title.
+        plan: the view (camera, vanishing points, steps).
+        margin_mm: the frame's inset from the paper edge, mm.
+        view_label: the view's name for the heading (default ``plan.name``).
+        ground_mm: four sheet points (mm) of the ground quad, overriding the computed one.
+    """
+    w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
+    m = float(margin_mm)
+    if m < MIN_MARGIN_MM or min(w, h) < 2 * m + 20:
+        raise RenderError(f"drawing sheet {w:g} x {h:g} mm: margin {m:g} mm does not fit")
+    title = plain_text(title)
+    frame = _frame_box((w, h), m)
+    axes = templates.lookup("pages", "axes")
+    items: list[Item] = []
+    items.append(Rect(frame[0], frame[1], frame[2] - frame[0], frame[3] - frame[1], "lightgrey",
+                      0.2, None, "frame"))
+    items += _green_corners(frame, 15.0)
+    band = m / 2  # centre line of the margin band
+    # Registration marks: a circle and cross centred in the margin band at each corner.
+    r = min(2.5, max(1.0, band - 1.0))
+    for cx, cy in ((band, band), (w - band, band), (w - band, h - band), (band, h - band)):
+        items.append(Circle(cx, cy, r, "black", 0.2, None, "registration"))
+        items.append(Polyline(((cx - r - 1, cy), (cx + r + 1, cy)), "black", 0.2, (), False, "registration"))
+        items.append(Polyline(((cx, cy - r - 1), (cx, cy + r + 1)), "black", 0.2, (), False, "registration"))
+    # Heading in the top band, scale bar in the bottom band.
+    head = _t("sheet.heading", title=title, view=plain_text(view_label or plan.name),
+              level=_level_name(plan.level))
+    hx0, hx1 = band + r + 3, w - band - r - 3
+    line = wrap(head, hx1 - hx0, 7)[:1]
+    if line:
+        items.append(Text(hx0, h - band - 0.9, line[0], 7, "Helvetica", "start", "grey", "sheet_title"))
+    bar_x0 = band + r + 5
+    bar_y = band - 0.5
+    items.append(Polyline(((bar_x0, bar_y), (bar_x0 + 100.0, bar_y)), "black", 0.3, (), False, "scale_bar"))
+    for k in range(11):
+        tick = 1.6 if k % 5 == 0 else 0.9
+        x = bar_x0 + 10.0 * k
+        items.append(Polyline(((x, bar_y), (x, bar_y + tick)), "black", 0.2, (), False, "scale_tick"))
+    items.append(Text(bar_x0 + 103.0, bar_y, _t("sheet.scale"), 7, "Helvetica", "start", "black",
+                      "scale_label"))
+    # Labels placed after the VP labels, at the first option that collides with no text.
+    deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
+    # Horizon.
+    hl = horizon_line(plan)
+    if hl is not None:
+        a, b, c = hl
+        # Two far points on the line, then clip to the frame.
+        p0 = (-a * c, -b * c)
+        d = (-b, a)
+        far = 10 * (w + h)
+        seg = _clip_segment((p0[0] - far * d[0], p0[1] - far * d[1]),
+                            (p0[0] + far * d[0], p0[1] + far * d[1]), frame)
+        if seg is not None and math.dist(*seg) > 1.0:
+            left, right = sorted(seg)
+            items.append(Polyline((left, right), "black", 0.25, (4.0, 1.5), False, "horizon"))
+            # Label along the line, away from the VP labels (placed after them).
+            options = []
+            for t in (0.5, 0.35, 0.65, 0.2, 0.8):
+                at = (left[0] + t * (right[0] - left[0]), left[1] + t * (right[1] - left[1]))
+                for dy in (1.2, -3.2):
+                    options.append(([Text(at[0], at[1] + dy, _t("sheet.horizon"), 7, "Helvetica",
+                                          "middle", "black", "horizon_label")], []))
+            deferred.append(options)
+        else:
+            cx = w / 2
+            y_at = (-c - a * cx) / b if abs(b) > 1e-9 else None
+            if y_at is not None:
+                above = y_at > frame[3]
+                dist = abs(y_at - (frame[3] if above else frame[1]))
+                key = "sheet.horizon_above" if above else "sheet.horizon_below"
+                ty = frame[3] - 5.0 if above else frame[1] + 3.0
+                tip_y = frame[3] - 1.0 if above else frame[1] + 1.0
+                up = (0.0, 1.0 if above else -1.0)
+                note = _t(key, distance=f"{dist:.0f}")
+                options = []
+                for ax, tx, anchor in ((frame[0] + 4.0, frame[0] + 7.0, "start"),
+                                       (frame[2] - 4.0, frame[2] - 7.0, "end"),
+                                       (frame[0] + 0.3 * (frame[2] - frame[0]),
+                                        frame[0] + 0.3 * (frame[2] - frame[0]) + 3.0, "start")):
+                    options.append(([Text(tx, ty, note, 7, "Helvetica", anchor, "black",
+                                          "horizon_label")],
+                                    _arrow((ax, tip_y), up, 6.0, "black", 0.25, "horizon_arrow")))
+                deferred.append(options)
+    # Ground plane of the first primitive.
+    quad: tuple[Pt, ...] | None
+    part = ""
+    if ground_mm is not None:
+        quad = tuple((float(x), float(y)) for x, y in ground_mm)
+    else:
+        found = first_ground_quad(plan)
+        quad = None if found is None else found[1]
+        part = "" if found is None else found[0]
+    if quad:
+        for piece in clip_polyline(quad, frame, closed=True):
+            items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False, "ground"))
+        label = _t("sheet.ground", part=plain_text(part or "?"))
+        low = min(quad, key=lambda p: (p[1], p[0]))
+        high = max(quad, key=lambda p: (p[1], p[0]))
+        lft = min(quad, key=lambda p: (p[0], p[1]))
+        rgt = max(quad, key=lambda p: (p[0], p[1]))
+        deferred.append([([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")], [])
+                         for x, y, anchor in ((low[0], low[1] - 3.5, "middle"),
+                                              (high[0], high[1] + 1.5, "middle"),
+                                              (rgt[0] + 2.0, rgt[1] - 1.0, "start"),
+                                              (lft[0] - 2.0, lft[1] - 1.0, "end"))])
+    # Vanishing points.
+    centre = ((frame[0] + frame[2]) / 2, (frame[1] + frame[3]) / 2)
+    inner = (frame[0] + 2, frame[1] + 2, frame[2] - 2, frame[3] - 2)
+    for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
+        name = axes[vp.axis]
+        if not vp.at_infinity and vp.xy_mm is not None:
+            v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
+            if 0.0 <= v[0] <= w and 0.0 <= v[1] <= h:
+                items.append(Circle(v[0], v[1], 1.2, "black", 0.3, None, "vp"))
+                items.append(Polyline(((v[0] - 3, v[1]), (v[0] + 3, v[1])), "black", 0.2, (), False, "vp"))
+                items.append(Polyline(((v[0], v[1] - 3), (v[0], v[1] + 3)), "black", 0.2, (), False, "vp"))
+                anchor = "end" if v[0] > w / 2 else "start"
+                dx = -2.5 if anchor == "end" else 2.5
+                items.append(Text(v[0] + dx, v[1] + 2.0, _t("sheet.vp", axis=name), 8, "Helvetica-Bold",
+                                  anchor, "black", "vp_label"))
+                continue
+            direction = (v[0] - centre[0], v[1] - centre[1])
+            label_fn = lambda tip: _t("sheet.vp_far", axis=name, distance=f"{math.dist(tip, v):.0f}")
+            detail = _corner_offset(v, frame)
+        else:
+            direction = tuple(vp.direction_mm)
+            label_fn = lambda tip: _t("sheet.vp_infinite", axis=name)
+            detail = ""
+        origin = centre
+        if not vp.at_infinity and vp.xy_mm is not None and hl is not None:
+            # A VP on the horizon (two-point views): run the arrow along the horizon, from the
+            # frame centre's foot on it, so the arrow lies on the line the VP sits on.
+            a, b, c = hl
+            v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
+            off = a * centre[0] + b * centre[1] + c
+            foot = (centre[0] - a * off, centre[1] - b * off)
+            if abs(a * v[0] + b * v[1] + c) < 1e-6 * (1.0 + math.hypot(*v)) and \
+                    inner[0] < foot[0] < inner[2] and inner[1] < foot[1] < inner[3]:
+                origin = foot
+                direction = (v[0] - foot[0], v[1] - foot[1])
+        if math.hypot(*direction) < 1e-12:
+            continue
+        tip, edge = _edge_exit(origin, direction, inner)
+        items += _arrow(tip, direction, 12.0, "black", 0.35, "vp_arrow")
+        label = label_fn(tip)
+        tw = text_width_mm(label, 8, "Helvetica-Bold")
+        n = math.hypot(*direction)
+        ux, uy = direction[0] / n, direction[1] / n
+        # Label just inside the frame next to the arrow's shaft.
+        # Side edges: the label block goes above the tip when the shaft comes from below,
+        # else below it, so neither the shaft nor a horizon through the tip crosses the text.
+        ly = tip[1] + 5.5 if uy > 0 else tip[1] - 5.0
+        ly = min(max(ly, inner[1] + 5.0), inner[3] - 3.0)
+        if edge == "right":
+            anchor, lx = "end", tip[0] - 3.0
+        elif edge == "left":
+            anchor, lx = "start", tip[0] + 3.0
+        else:
+            # Top/bottom edges: the block sits beside the shaft, toward the sheet's middle,
+            # within the shaft's 12 mm from the edge.
+            tail = (tip[0] - ux * 12.0, tip[1] - uy * 12.0)
+            block = max(tw, text_width_mm(detail, 7))
+            if tip[0] < (frame[0] + frame[2]) / 2:
+                anchor, lx = "start", min(max(tip[0], tail[0]) + 3.0, inner[2] - block)
+            else:
+                anchor, lx = "end", max(min(tip[0], tail[0]) - 3.0, inner[0] + block)
+            ly = tip[1] - 4.5 if edge == "top" else tip[1] + 8.5
+        items.append(Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label"))
+        if detail:
+            items.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
+    for options in deferred:
+        texts, extra = next((o for o in options if _fits(o[0], items, frame)), options[0])
+        items += extra
+        items += texts
+    return Page(w, h, tuple(items), (Bookmark(_t("sheet.bookmark")),), "sheet", title, m)
+
+
+# ----------------------------------------------------------------------------- book
+
+
+def lay_out_book(title: str, workbooks: Sequence[tuple[str, tuple[Page, ...]]]) -> tuple[Page, ...]:
+    """Many workbooks in one document: a title page, contents, then each workbook's pages.
+
+    Args:
+        title: the book's title.
+        workbooks: ``(label, pages)``; ``label`` is ``"tutorial > view > level"`` (parts joined by
+            :data:`OUTLINE_SEP`; fewer parts are fine), ``pages`` from :func:`lay_out_workbook`.
+
+    Returns:
+        All pages; outline: each label part once per run of workbooks sharing it (tutorial at
+        level 0, view 1, level 2), the workbook's own bookmarks below; footers renumbered.
+    """
+    if not workbooks:
+        raise RenderError(f"book {title!r}: no workbooks to lay out")
+    title = plain_text(title)
+    first = workbooks[0][1][0]
+    w, h = first.width_mm, first.height_mm
+    m = first.margin_mm
+    f = _Frame(w, h, m)
+    x0, y0, x1, y1 = f.box
+    # Contents lines: one per workbook (label parts joined), dotted to the page number.
+    size, lead = 10.0, 6.0
+    head_h = 30.0
+    per_page = max(1, int((y1 - y0 - head_h - 8.0) // lead))
+    n_contents = math.ceil(len(workbooks) / per_page)
+    start = 1 + n_contents + 1  # title page, contents pages, then the first workbook page
+    starts = []
+    for _, pages in workbooks:
+        starts.append(start)
+        start += len(pages)
+    # Title page.
+    items: list[Item] = []
+    top = y1 - 0.3 * (y1 - y0)
+    para, top = _paragraph(x0, top, x1 - x0, _t("book.kicker"), 12, role="kicker", colour="grey")
+    items += para
+    para, top = _paragraph(x0, top - 4, x1 - x0, title, 30, font="Helvetica-Bold", role="title")
+    items += para
+    count = _t("book.count_one") if len(workbooks) == 1 else _t("book.count_many", n=len(workbooks))
+    para, _ = _paragraph(x0, top - 6, x1 - x0, count, 12, role="count")
+    items += para
+    out: list[Page] = [Page(w, h, tuple(items), (Bookmark(_t("book.bookmark_title")),), "title", title, m)]
+    for c in range(n_contents):
+        items = []
+        head, top = _header(f, _t("book.contents") if c == 0 else _t("book.contents_more"), title)
+        items += head
+        y = top - 6.0
+        for k in range(c * per_page, min(len(workbooks), (c + 1) * per_page)):
+            label = plain_text(workbooks[k][0])
+            parts = [p.strip() for p in label.split(OUTLINE_SEP.strip())]
+            shown = "  -  ".join(parts)
+            num = str(starts[k])
+            nw = text_width_mm(num, size)
+            line = wrap(shown, x1 - x0 - nw - 12, size)[0]
+            items.append(Text(x0, y, line, size, "Helvetica", "start", "black", "contents_entry"))
+            lw = text_width_mm(line, size)
+            items.append(Polyline(((x0 + lw + 2, y + 0.3), (x1 - nw - 2, y + 0.3)), "lightgrey",
+                                  0.3, (0.3, 1.2), False, "contents_dots"))
+            items.append(Text(x1, y, num, size, "Helvetica", "end", "black", "contents_page"))
+            y -= lead
+        marks = (Bookmark(_t("book.bookmark_contents")),) if c == 0 else ()
+        out.append(Page(w, h, tuple(items), marks, "contents", title, m))
+    previous: list[str] = []
+    for label, pages in workbooks:
+        parts = [plain_text(p.strip()) for p in label.split(OUTLINE_SEP.strip())]
+        common = 0
+        while common < min(len(parts), len(previous)) and parts[common] == previous[common]:
+            common += 1
+        heads = tuple(Bookmark(p, lvl) for lvl, p in enumerate(parts) if lvl >= common)
+        previous = parts
+        depth = len(parts)
+        for j, page in enumerate(pages):
+            marks = tuple(Bookmark(b.title, b.level + depth) for b in page.bookmarks)
+            if j == 0:
+                marks = heads + marks
+            out.append(replace(page, bookmarks=marks, title=title))
+    return _with_footers(out, lambda n, total: _t("book.footer", title=title, page=n, pages=total))

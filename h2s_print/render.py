@@ -1,0 +1,227 @@
+"""Render stage (DESIGN.md §2.9): laid-out pages -> PDF (reportlab), SVG and PNG (cairosvg).
+
+Everything was placed by ``layout.py`` in page millimetres; this module only converts units
+(1 mm = 72 / 25.4 pt) and draws.  PDFs are vector (real lines, real Helvetica text), written
+with reportlab's ``invariant=1`` so the same pages give the same bytes, with a PDF outline from
+the pages' bookmarks and the viewer preference ``/PrintScaling /None`` so print dialogs default
+to actual size (the calibrated drawing sheet must not be scaled).  Each page's MediaBox is
+exactly its size in points.
+"""
+
+from __future__ import annotations
+
+import io
+import logging
+import os
+import tempfile
+from pathlib import Path
+from typing import Sequence
+from xml.sax.saxutils import escape
+
+from .errors import RenderError
+from .layout import COLOURS, PT_MM, Circle, Page, Polyline, Rect, Text
+
+log = logging.getLogger(__name__)
+
+MM_PT = 72.0 / 25.4  #: points per millimetre
+PRODUCER = "h2s-print"
+
+
+def _pt(mm: float) -> float:
+    return mm * MM_PT
+
+
+def _rgb(name: str) -> tuple[float, float, float]:
+    try:
+        return COLOURS[name]
+    except KeyError:
+        raise RenderError(f"unknown colour role {name!r} in a laid-out page") from None
+
+
+# ----------------------------------------------------------------------------- PDF
+
+
+def _draw_page(c, page: Page) -> None:
+    c.setLineJoin(1)
+    c.setLineCap(0)
+    for item in page.items:
+        if isinstance(item, Polyline):
+            if len(item.points_mm) < 2:
+                continue
+            c.setStrokeColorRGB(*_rgb(item.colour))
+            c.setLineWidth(_pt(item.width_mm))
+            c.setDash([_pt(d) for d in item.dash_mm], 0) if item.dash_mm else c.setDash([], 0)
+            path = c.beginPath()
+            (x, y), *rest = item.points_mm
+            path.moveTo(_pt(x), _pt(y))
+            for x, y in rest:
+                path.lineTo(_pt(x), _pt(y))
+            if item.closed:
+                path.close()
+            c.drawPath(path, stroke=1, fill=0)
+        elif isinstance(item, Text):
+            if not item.string:
+                continue
+            c.setFillColorRGB(*_rgb(item.colour))
+            c.setFont(item.font, item.size_pt)
+            draw = {"start": c.drawString, "middle": c.drawCentredString,
+                    "end": c.drawRightString}[item.anchor]
+            draw(_pt(item.x_mm), _pt(item.y_mm), item.string)
+        elif isinstance(item, Rect):
+            _style_area(c, item.colour, item.line_mm, item.fill)
+            c.rect(_pt(item.x_mm), _pt(item.y_mm), _pt(item.w_mm), _pt(item.h_mm),
+                   stroke=int(item.colour is not None), fill=int(item.fill is not None))
+        elif isinstance(item, Circle):
+            _style_area(c, item.colour, item.line_mm, item.fill)
+            c.circle(_pt(item.cx_mm), _pt(item.cy_mm), _pt(item.r_mm),
+                     stroke=int(item.colour is not None), fill=int(item.fill is not None))
+        else:
+            raise RenderError(f"cannot draw a {type(item).__name__} item")
+
+
+def _style_area(c, colour: str | None, line_mm: float, fill: str | None) -> None:
+    c.setDash([], 0)
+    if colour is not None:
+        c.setStrokeColorRGB(*_rgb(colour))
+        c.setLineWidth(_pt(line_mm))
+    if fill is not None:
+        c.setFillColorRGB(*_rgb(fill))
+
+
+def pdf_bytes(pages: Sequence[Page]) -> bytes:
+    """The PDF of ``pages``: one PDF page per page, MediaBox = page size, outline, no scaling.
+
+    Raises:
+        RenderError: no pages, or an item the renderer does not know.
+    """
+    from reportlab.pdfgen import canvas
+
+    if not pages:
+        raise RenderError("nothing to render: no pages")
+    buf = io.BytesIO()
+    first = pages[0]
+    c = canvas.Canvas(buf, pagesize=(_pt(first.width_mm), _pt(first.height_mm)), invariant=1,
+                      pageCompression=1)
+    c.setTitle(first.title or "h2s workbook")
+    c.setCreator(PRODUCER)
+    c.setProducer(PRODUCER)
+    c.setViewerPreference("PrintScaling", "None")
+    level = -1
+    has_outline = False
+    for n, page in enumerate(pages):
+        c.setPageSize((_pt(page.width_mm), _pt(page.height_mm)))
+        _draw_page(c, page)
+        for j, mark in enumerate(page.bookmarks):
+            key = f"p{n}b{j}"
+            c.bookmarkPage(key, fit="Fit")
+            # An outline can only go one level deeper at a time.
+            level = max(0, min(mark.level, level + 1))
+            c.addOutlineEntry(mark.title, key, level=level, closed=level >= 2)
+            has_outline = True
+        c.showPage()
+    if has_outline:
+        c.showOutline()
+    c.save()
+    return buf.getvalue()
+
+
+def render_pdf(pages: Sequence[Page], path: Path) -> None:
+    """Write ``pages`` as a PDF at ``path`` atomically (temp file in the same folder, then
+    ``os.replace``), so a failed run never leaves a half-written PDF.
+
+    Raises:
+        RenderError: naming ``path``, when it cannot be written (or nothing to render).
+    """
+    path = Path(path)
+    data = pdf_bytes(pages)
+    tmp_name = None
+    try:
+        with tempfile.NamedTemporaryFile(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp",
+                                         delete=False) as tmp:
+            tmp_name = tmp.name
+            tmp.write(data)
+            tmp.flush()
+            os.fsync(tmp.fileno())
+        os.replace(tmp_name, path)
+        tmp_name = None
+    except OSError as exc:
+        raise RenderError(f"{path}: cannot write PDF: {exc.strerror or exc}") from None
+    finally:
+        if tmp_name is not None:
+            try:
+                os.unlink(tmp_name)
+            except OSError:
+                pass
+    log.info("wrote %s (%d pages, %d bytes)", path, len(pages), len(data))
+
+
+# ----------------------------------------------------------------------------- SVG / PNG
+
+
+def _num(v: float) -> str:
+    s = f"{v:.3f}".rstrip("0").rstrip(".")
+    return "0" if s in ("-0", "") else s
+
+
+def _svg_colour(name: str | None) -> str:
+    if name is None:
+        return "none"
+    r, g, b = _rgb(name)
+    return f"rgb({round(r * 255)},{round(g * 255)},{round(b * 255)})"
+
+
+def render_svg(page: Page) -> str:
+    """One page as a standalone SVG (size in mm, ``viewBox`` in mm, y flipped to point down).
+
+    Every :class:`~h2s_print.layout.Polyline` becomes one ``<polyline>`` (or ``<polygon>`` when
+    closed), every text one ``<text>``; a white background ``<rect>`` comes first.
+    """
+    w, h = page.width_mm, page.height_mm
+    out = [
+        '<?xml version="1.0" encoding="UTF-8"?>',
+        f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{_num(w)}mm" '
+        f'height="{_num(h)}mm" viewBox="0 0 {_num(w)} {_num(h)}">',
+        f'<rect x="0" y="0" width="{_num(w)}" height="{_num(h)}" fill="white"/>',
+    ]
+    for item in page.items:
+        if isinstance(item, Polyline):
+            if len(item.points_mm) < 2:
+                continue
+            pts = " ".join(f"{_num(x)},{_num(h - y)}" for x, y in item.points_mm)
+            tag = "polygon" if item.closed else "polyline"
+            dash = (f' stroke-dasharray="{" ".join(_num(d) for d in item.dash_mm)}"'
+                    if item.dash_mm else "")
+            out.append(f'<{tag} points="{pts}" fill="none" stroke="{_svg_colour(item.colour)}" '
+                       f'stroke-width="{_num(item.width_mm)}" stroke-linejoin="round"{dash}/>')
+        elif isinstance(item, Text):
+            if not item.string:
+                continue
+            weight = ' font-weight="bold"' if item.font.endswith("Bold") else ""
+            style = ' font-style="italic"' if item.font.endswith("Oblique") else ""
+            out.append(f'<text x="{_num(item.x_mm)}" y="{_num(h - item.y_mm)}" '
+                       f'font-family="Helvetica, Arial, sans-serif" '
+                       f'font-size="{_num(item.size_pt * PT_MM)}"{weight}{style} '
+                       f'text-anchor="{item.anchor}" fill="{_svg_colour(item.colour)}">'
+                       f'{escape(item.string)}</text>')
+        elif isinstance(item, Rect):
+            out.append(f'<rect x="{_num(item.x_mm)}" y="{_num(h - item.y_mm - item.h_mm)}" '
+                       f'width="{_num(item.w_mm)}" height="{_num(item.h_mm)}" '
+                       f'fill="{_svg_colour(item.fill)}" stroke="{_svg_colour(item.colour)}" '
+                       f'stroke-width="{_num(item.line_mm)}"/>')
+        elif isinstance(item, Circle):
+            out.append(f'<circle cx="{_num(item.cx_mm)}" cy="{_num(h - item.cy_mm)}" '
+                       f'r="{_num(item.r_mm)}" fill="{_svg_colour(item.fill)}" '
+                       f'stroke="{_svg_colour(item.colour)}" stroke-width="{_num(item.line_mm)}"/>')
+        else:
+            raise RenderError(f"cannot draw a {type(item).__name__} item")
+    out.append("</svg>")
+    return "\n".join(out) + "\n"
+
+
+def render_png(page: Page, dpi: float = 150.0) -> bytes:
+    """One page as PNG bytes at ``dpi`` (rasterised from :func:`render_svg` by cairosvg)."""
+    import cairosvg
+
+    if not dpi > 0:
+        raise RenderError(f"png dpi must be positive, got {dpi}")
+    return cairosvg.svg2png(bytestring=render_svg(page).encode("utf-8"), dpi=dpi)

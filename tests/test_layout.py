@@ -1,0 +1,514 @@
+"""Layout stage: pages in mm, built from hand-made ViewPlans (no other stage involved)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from h2s_print import layout as L
+from h2s_print.config import PaperSpec
+from h2s_print.errors import RenderError
+from h2s_print.types import Camera, Guide, Step, Stroke, VanishingPoint, ViewPlan
+
+# ----------------------------------------------------------------------------- factory
+
+
+def make_camera(paper_mm=(297.0, 210.0), az_deg=35.0, el_deg=12.0, dist=700.0,
+                target=(100.0, 60.0, 40.0), fill=0.5) -> tuple[Camera, dict]:
+    """A two-point camera (optical axis horizontal, shifted window) fitted to the sheet.
+
+    Image: x = cx + F (r.(X-C)) / depth, y = cy + F (z.(X-C)) / depth, depth = f.(X-C), with f
+    the horizontal forward direction, r = f x z.  F is chosen so the 200 mm body spans about
+    ``fill`` of the sheet width; (cx, cy) put the target at the sheet's centre.
+    """
+    az, el = math.radians(az_deg), math.radians(el_deg)
+    t = np.array(target)
+    c = t + dist * np.array([math.sin(az) * math.cos(el), -math.cos(az) * math.cos(el), math.sin(el)])
+    fwd = np.array([-math.sin(az), math.cos(az), 0.0])
+    right = np.cross(fwd, [0.0, 0.0, 1.0])
+    up = np.array([0.0, 0.0, 1.0])
+    depth_t = fwd @ (t - c)
+    f_mm = fill * paper_mm[0] * depth_t / 200.0
+    cx = paper_mm[0] / 2 - f_mm * (right @ (t - c)) / depth_t
+    cy = paper_mm[1] / 2 - f_mm * (up @ (t - c)) / depth_t
+    p = np.zeros((3, 4))
+    p[0, :3] = f_mm * right + cx * fwd
+    p[1, :3] = f_mm * up + cy * fwd
+    p[2, :3] = fwd
+    p[:, 3] = -p[:, :3] @ c
+    p.setflags(write=False)
+    cam = Camera(tuple(c), p, tuple(paper_mm), "two-point")
+    return cam, {"f_mm": f_mm, "cx": cx, "cy": cy}
+
+
+def vanishing_points(cam: Camera) -> tuple[VanishingPoint, ...]:
+    out = []
+    centre = np.array(cam.paper_mm) / 2
+    for axis in range(3):
+        col = cam.projection_mm[:, axis]
+        if abs(col[2]) < 1e-12:
+            d = col[:2] / np.linalg.norm(col[:2])
+            out.append(VanishingPoint(axis, True, None, (float(d[0]), float(d[1]))))
+        else:
+            xy = col[:2] / col[2]
+            d = (xy - centre) / np.linalg.norm(xy - centre)
+            out.append(VanishingPoint(axis, False, (float(xy[0]), float(xy[1])),
+                                      (float(d[0]), float(d[1]))))
+    return tuple(out)
+
+
+def box_strokes(cam: Camera, part: str, lo, hi) -> tuple[Stroke, ...]:
+    corners = [(x, y, z) for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]
+    edges = []
+    for i, a in enumerate(corners):
+        for b in corners[i + 1:]:
+            if sum(1 for k in range(3) if a[k] != b[k]) == 1:
+                edges.append((a, b))
+    return tuple(stroke(cam, "scaffold", part, [a, b]) for a, b in edges)
+
+
+def stroke(cam: Camera, kind: str, part: str, pts3d) -> Stroke:
+    pts3d = [tuple(float(v) for v in p) for p in pts3d]
+    mm = [tuple(float(v) for v in q) for q in cam.project(pts3d)]
+    return Stroke(kind, part, tuple(pts3d), tuple(mm))
+
+
+def guide(cam: Camera, gid: str, status: str, a, b, role: str = "guide") -> Guide:
+    pa, pb = cam.project([a, b])
+    return Guide(gid, status, tuple(map(float, a)), tuple(map(float, b)),
+                 (float(pa[0]), float(pa[1])), (float(pb[0]), float(pb[1])), role)
+
+
+def make_plan(level: str = "apprentice", paper_mm=(297.0, 210.0), *, guides: bool = True,
+              n_steps: int = 5, camera: Camera | None = None,
+              vps: tuple[VanishingPoint, ...] | None = None, **camera_kw) -> ViewPlan:
+    """A plausible 3-5 step camera-like tutorial: body, lens (on the front face's halves), an
+    ellipse, a grip (half the top's depth), a contour.  Guide lifetimes: g_mid is new at step 2,
+    idle at 3, reused at 4; g_half new at 2, reused at 3, retired after 3."""
+    cam = camera if camera is not None else make_camera(paper_mm, **camera_kw)[0]
+    g = (lambda *a, **k: guide(cam, *a, **k)) if guides else None
+    steps = [
+        Step(1, "body", "primitive", "Draw the body: a box whose bottom face sits on the ground plane.",
+             False, (), box_strokes(cam, "body", (0, 0, 0), (200, 120, 80)), ()),
+        Step(2, "lens", "primitive",
+             "Divide the front face in half both ways, then draw the lens box centred on the "
+             "crossing and extend it toward you by ⅓ of the body's depth.", False,
+             (g("g_half", "new", (100, 0, 0), (100, 0, 80)),
+              g("g_mid", "new", (0, 0, 40), (200, 0, 40))) if guides else (),
+             box_strokes(cam, "lens", (70, -40, 20), (130, 0, 60)),
+             ("g_half", "g_mid") if guides else ()),
+        Step(3, "lens", "ellipse",
+             "Draw the lens's round front: an ellipse touching the middle of each edge of the "
+             "lens box's front face.", False,
+             (g("g_half", "reused", (100, 0, 0), (100, 0, 80)),) if guides else (),
+             (stroke(cam, "ellipse", "lens",
+                     [(100 + 30 * math.cos(t), -40, 40 + 20 * math.sin(t))
+                      for t in np.linspace(0, 2 * math.pi, 49)]),),
+             ("g_half", "g_mid") if guides else ()),
+        Step(4, "grip", "primitive",
+             "Halve the top face's depth and draw the grip on its back half, as tall as half the "
+             "lens.", True,
+             (g("g_top", "new", (0, 60, 80), (200, 60, 80)),
+              g("g_mid", "reused", (0, 0, 40), (200, 0, 40))) if guides else (),
+             box_strokes(cam, "grip", (150, 60, 80), (200, 120, 100)),
+             ("g_mid", "g_top") if guides else ()),
+        Step(5, "body", "contour", "Trace the body's rounded outline over the box.", False, (),
+             (stroke(cam, "contour", "body",
+                     [(0, 0, 10), (0, 0, 70), (10, 0, 80), (190, 0, 80), (200, 0, 70),
+                      (200, 0, 10), (190, 0, 0), (10, 0, 0), (0, 0, 10)]),), ()),
+    ][:n_steps]
+    vps = vanishing_points(cam) if vps is None else vps
+    return ViewPlan("front-left", level, tuple(paper_mm), cam, vps, tuple(steps))
+
+
+A4L = PaperSpec("A4", "landscape", 12.0)
+A4P = PaperSpec("A4", "portrait", 12.0)
+
+
+def workbook(level="apprentice", paper=A4L, **kw):
+    plan = make_plan(level, (paper.width_mm, paper.height_mm), **kw)
+    return plan, L.lay_out_workbook("Digital camera", plan, paper, view_label="front-left")
+
+
+def polylines(page, role=None):
+    return [it for it in page.items if isinstance(it, L.Polyline) and (role is None or it.role == role)]
+
+
+def texts(page, role=None):
+    return [it for it in page.items if isinstance(it, L.Text) and it.string
+            and (role is None or it.role == role)]
+
+
+# ----------------------------------------------------------------------------- page sizes
+
+
+@pytest.mark.parametrize("paper, size", [
+    (PaperSpec("A4", "landscape"), (297.0, 210.0)),   # ISO 216 A4 is 210 x 297; landscape swaps
+    (PaperSpec("A4", "portrait"), (210.0, 297.0)),
+    (PaperSpec("A3", "landscape"), (420.0, 297.0)),   # A3 = 297 x 420
+    (PaperSpec("Letter", "portrait"), (215.9, 279.4)),  # 8.5 x 11 in = 215.9 x 279.4 mm
+    (PaperSpec("Letter", "landscape"), (279.4, 215.9)),
+])
+def test_page_sizes_are_the_paper(paper, size):
+    plan, pages = workbook(paper=paper)
+    for page in pages[:-1]:
+        assert (page.width_mm, page.height_mm) == size
+    assert pages[-1].kind == "sheet"
+    assert (pages[-1].width_mm, pages[-1].height_mm) == plan.paper_mm
+
+
+def test_page_sequence_and_steps_per_page():
+    _, pages = workbook("apprentice")
+    # cover + primer + ceil(5 steps / 2 per page) = 3 + final + sheet = 7
+    assert [p.kind for p in pages] == ["cover", "primer", "steps", "steps", "steps", "final", "sheet"]
+    _, pages = workbook("novice")
+    # novice: 1 step per page -> 2 + 5 + 2 = 9
+    assert len(pages) == 9
+    assert [b.title for p in pages for b in p.bookmarks][2:7] == [f"Step {i}" for i in range(1, 6)]
+
+
+def test_margins_hold_on_every_workbook_page():
+    for paper in (A4L, A4P, PaperSpec("Letter", "portrait", 6.0)):
+        _, pages = workbook("apprentice", paper)
+        for page in pages[:-1]:
+            m = paper.margin_mm
+            for it in page.items:
+                if isinstance(it, L.Polyline):
+                    for x, y in it.points_mm:
+                        assert m - 1e-6 <= x <= page.width_mm - m + 1e-6, (page.kind, it.role)
+                        assert m - 1e-6 <= y <= page.height_mm - m + 1e-6, (page.kind, it.role)
+                elif isinstance(it, L.Text) and it.string:
+                    x0, y0, x1, y1 = it.box_mm
+                    assert x0 >= m - 1e-6 and x1 <= page.width_mm - m + 1e-6, (page.kind, it.string)
+                    assert y0 >= m - 1e-6 and y1 <= page.height_mm - m + 1e-6, (page.kind, it.string)
+
+
+def test_no_text_overlaps_text():
+    for level, paper in (("novice", A4L), ("apprentice", A4L), ("master", A4P)):
+        _, pages = workbook(level, paper)
+        for page in pages:
+            boxes = [(t, t.box_mm) for t in texts(page)]
+            for i, (ta, a) in enumerate(boxes):
+                for tb, b in boxes[i + 1:]:
+                    overlap = min(a[2], b[2]) - max(a[0], b[0]) > 0.1 and \
+                        min(a[3], b[3]) - max(a[1], b[1]) > 0.1
+                    assert not overlap, (page.kind, ta.string, tb.string)
+
+
+def test_margin_below_5mm_is_refused():
+    plan = make_plan()
+    with pytest.raises(RenderError, match="margin"):
+        L.lay_out_workbook("t", plan, PaperSpec("A4", "landscape", 4.0), view_label="v")
+
+
+# ----------------------------------------------------------------------------- step panels
+
+
+def _panel_of(page, k=0):
+    return [it for it in page.items if isinstance(it, L.Rect) and it.role == "paper"][k]
+
+
+def test_step_panel_maps_the_sheet_uniformly_and_keeps_strokes_inside():
+    plan, pages = workbook("novice")
+    for i, page in enumerate(pages[2:7]):
+        paper = _panel_of(page)
+        s = paper.w_mm / plan.paper_mm[0]
+        # uniform scale: the sheet's aspect 297/210 is kept
+        assert paper.h_mm == pytest.approx(plan.paper_mm[1] * s, abs=1e-9)
+        new = polylines(page, "stroke_new")
+        assert len(new) == len(plan.steps[i].strokes)  # nothing clipped: strokes are on the sheet
+        first = plan.steps[i].strokes[0].points_mm[0]
+        assert new[0].points_mm[0] == pytest.approx((paper.x_mm + first[0] * s, paper.y_mm + first[1] * s))
+        for it in polylines(page):
+            if it.role.startswith(("stroke", "guide")):
+                for x, y in it.points_mm:
+                    assert paper.x_mm - 1e-6 <= x <= paper.x_mm + paper.w_mm + 1e-6
+                    assert paper.y_mm - 1e-6 <= y <= paper.y_mm + paper.h_mm + 1e-6
+        assert new[0].colour == "orange"
+        if i:
+            assert {it.colour for it in polylines(page, "stroke_earlier")} == {"grey"}
+            # earlier strokes: every stroke of steps 1..i
+            assert len(polylines(page, "stroke_earlier")) == sum(len(st.strokes) for st in plan.steps[:i])
+
+
+def test_guide_lifetime_colours_and_greyscale_styles():
+    plan, pages = workbook("novice")
+    by_step = {i + 1: page for i, page in enumerate(pages[2:7])}
+    roles = lambda p: sorted(it.role for it in polylines(p) if it.role.startswith("guide"))
+    assert roles(by_step[1]) == []
+    assert roles(by_step[2]) == ["guide_new", "guide_new"]          # g_half, g_mid new
+    assert roles(by_step[3]) == ["guide_idle", "guide_reused"]      # g_half reused, g_mid waits
+    assert roles(by_step[4]) == ["guide_new", "guide_reused"]       # g_top new, g_mid reused
+    assert roles(by_step[5]) == []                                   # all retired
+    assert {it.colour for it in polylines(by_step[2], "guide_new")} == {"orange"}
+    assert {it.colour for it in polylines(by_step[3])if it.role.startswith("guide")} == {"blue"}
+    # greyscale: every line meaning differs by dash pattern or width
+    keys = ["earlier", "new", "guide_new", "guide_reused", "guide_idle", "vanishing"]
+    looks = {(L.STYLES[k].width_mm, L.STYLES[k].dash_mm) for k in keys}
+    assert len(looks) == len(keys)
+    # idle guide g_mid at step 3 is drawn where step 2 put it
+    paper = _panel_of(by_step[3])
+    s = paper.w_mm / plan.paper_mm[0]
+    g_mid = plan.steps[1].guides[1]
+    idle = polylines(by_step[3], "guide_idle")[0]
+    assert idle.points_mm[0] == pytest.approx((paper.x_mm + g_mid.from_mm[0] * s,
+                                               paper.y_mm + g_mid.from_mm[1] * s))
+
+
+def test_erase_hint_counts_retired_guides():
+    plan, pages = workbook("novice")
+    hints = {i + 1: " ".join(t.string for t in texts(p, "erase_hint")) for i, p in enumerate(pages[2:7])}
+    assert hints[1] == "" and hints[2] == ""
+    assert "1 guide line" in hints[3]   # g_half shown at 3, gone at 4
+    assert "2 guide lines" in hints[4]  # g_mid, g_top gone at 5
+
+
+def test_instruction_text_is_wrapped_whole_and_spelled_for_helvetica():
+    plan, pages = workbook("apprentice")
+    got = [" ".join(t.string for t in texts(p, "instruction")) for p in pages[2:5]]
+    joined = " ".join(got)
+    for step in plan.steps:
+        assert L.plain_text(step.text) in joined
+    assert "1/3 of the body" in joined and "⅓" not in joined
+
+
+def test_vanishing_lines_head_for_the_vps():
+    plan, pages = workbook("novice")
+    page = pages[2]
+    paper = _panel_of(page)
+    s = paper.w_mm / plan.paper_mm[0]
+    lines = polylines(page, "vanishing")
+    finite = [vp for vp in plan.vanishing_points if not vp.at_infinity]
+    assert len(finite) == 2 and len(lines) == 4  # two enclosing lines per finite VP
+    for ln in lines:
+        (ax, ay), (bx, by) = ln.points_mm
+        # back to sheet mm, the line passes through one of the VPs
+        a = ((ax - paper.x_mm) / s, (ay - paper.y_mm) / s)
+        b = ((bx - paper.x_mm) / s, (by - paper.y_mm) / s)
+        dists = []
+        for vp in finite:
+            v = vp.xy_mm
+            cross = (b[0] - a[0]) * (v[1] - a[1]) - (b[1] - a[1]) * (v[0] - a[0])
+            dists.append(abs(cross) / math.dist(a, b))
+        assert min(dists) < 1e-6
+
+
+def test_vp_inside_a_panel_is_marked():
+    plan = make_plan("novice")
+    vp = VanishingPoint(0, False, (250.0, 120.0), (1.0, 0.0))
+    plan2 = ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, (vp,), plan.steps)
+    page = L.lay_out_workbook("t", plan2, A4L, view_label="v")[2]
+    paper = _panel_of(page)
+    s = paper.w_mm / plan.paper_mm[0]
+    mark, = [c for c in page.items if isinstance(c, L.Circle) and c.role == "vp"]
+    assert (mark.cx_mm, mark.cy_mm) == pytest.approx((paper.x_mm + 250 * s, paper.y_mm + 120 * s))
+    assert [t.string for t in texts(page, "vp_label")] == ["VP x"]
+
+
+def test_estimated_time():
+    plan = make_plan()
+    # kinds primitive, primitive, ellipse, primitive, contour: 3 + 3 + 3 + 3 + 2 = 14 min;
+    # new guides g_half, g_mid, g_top: 3 x 0.5 = 1.5 -> 15.5 -> rounded up to 20
+    assert L.estimate_minutes(plan) == 20
+    _, pages = workbook()
+    assert any("about 20 minutes" in t.string for t in texts(pages[0]))
+
+
+def test_basic_level_is_just_steps_without_guides():
+    plan, pages = workbook("basic", guides=False)
+    assert all(not p.role.startswith("guide") for page in pages for p in polylines(page))
+    assert any("basic" in t.string for t in texts(pages[0]))
+
+
+# ----------------------------------------------------------------------------- primer
+
+
+def _meet(a, b, c, d):
+    """Intersection of lines ab and cd."""
+    (x1, y1), (x2, y2), (x3, y3), (x4, y4) = a, b, c, d
+    den = (x1 - x2) * (y3 - y4) - (y1 - y2) * (x3 - x4)
+    t = ((x1 - x3) * (y3 - y4) - (y1 - y3) * (x3 - x4)) / den
+    return (x1 + t * (x2 - x1), y1 + t * (y2 - y1))
+
+
+def _on_line(p, a, b):
+    return abs((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])) / math.dist(a, b)
+
+
+def test_primer_constructions_are_projectively_exact():
+    d = {x.key: x for x in L.primer_diagrams()}
+    assert set(d) == {"half", "quarter", "third", "extend", "extend_half"}
+    part = lambda key, role: [s for s in d[key].segments if s[2] == role]
+    # 1/2: the result passes through the diagonals' crossing, and stays vertical (two-point)
+    (ac, bd), (res,) = part("half", "construction"), part("half", "result")
+    assert _on_line(_meet(ac[0], ac[1], bd[0], bd[1]), res[0], res[1]) < 1e-6
+    assert res[0][0] == pytest.approx(res[1][0], abs=1e-6)
+    # 1/3 (paper Fig. 3c): C-E meets diagonal B-D on the 1/3 line; D-F meets A-C on the 2/3 line
+    (ac, bd, cross, ce, df), (r13, r23) = part("third", "construction"), part("third", "result")
+    assert _on_line(_meet(bd[0], bd[1], ce[0], ce[1]), r13[0], r13[1]) < 1e-6
+    assert _on_line(_meet(ac[0], ac[1], df[0], df[1]), r23[0], r23[1]) < 1e-6
+    # 1/4 and 3/4 share the diagonals and the halving line: drawn once
+    assert len(part("quarter", "construction")) == 3 + 4 and len(part("quarter", "result")) == 2
+    # extend 1x (Fig. 3d): D-F (F = cross line meets edge BC) reaches the new corner S2
+    face = part("extend", "face")
+    ac, bd, cross, ext, connect = part("extend", "construction")
+    new_edge = part("extend", "result")[0]
+    bc = face[1]
+    f = _meet(cross[0], cross[1], bc[0], bc[1])
+    assert _on_line(f, connect[0], connect[1]) < 1e-6
+    assert math.dist(connect[1], new_edge[0]) < 1e-6 and math.dist(ext[1], new_edge[0]) < 1e-6
+
+
+def test_primer_page_has_every_diagram_and_caption():
+    _, pages = workbook()
+    primer = pages[1]
+    diagrams = L.primer_diagrams()
+    assert len(texts(primer, "primer_title")) == len(diagrams) == 5
+    # every segment of every diagram is drawn, none lost to clipping at its cell's edge
+    for role in ("face", "construction", "result"):
+        want = sum(1 for d in diagrams for s in d.segments if s[2] == role)
+        assert len(polylines(primer, f"primer_{role}")) == want, role
+
+
+# ----------------------------------------------------------------------------- calibrated sheet
+
+
+def test_sheet_is_true_scale():
+    plan = make_plan()
+    page = L.lay_out_sheet("Digital camera", plan, margin_mm=12.0)
+    assert (page.width_mm, page.height_mm) == (297.0, 210.0)  # = plan.paper_mm, 1 mm : 1 mm
+    ground = polylines(page, "ground")
+    assert len(ground) == 1
+    # bottom face of the body (z = 0): its projection_mm positions are the page positions
+    corners = [(0, 0, 0), (200, 0, 0), (200, 120, 0), (0, 120, 0)]
+    expected = plan.camera.project(corners)
+    got = ground[0].points_mm
+    for e in expected:
+        assert min(math.dist(e, g) for g in got) < 1e-9
+    bar, = polylines(page, "scale_bar")
+    assert math.dist(*bar.points_mm) == pytest.approx(100.0, abs=1e-9)
+    assert any("print at 100% (actual size)" in t.string for t in texts(page))
+    assert len(polylines(page, "corner")) == 4 and {p.colour for p in polylines(page, "corner")} == {"green"}
+    # corners sit on the frame: 12 mm inside the paper
+    assert {p.points_mm[1] for p in polylines(page, "corner")} == {(12, 12), (285, 12), (285, 198), (12, 198)}
+    assert len([c for c in page.items if isinstance(c, L.Circle) and c.role == "registration"]) == 4
+
+
+def test_sheet_horizon_and_far_vanishing_points():
+    plan = make_plan(el_deg=5.0)
+    _, geo = make_camera(el_deg=5.0)
+    page = L.lay_out_sheet("Digital camera", plan)
+    # two-point camera: the horizon is the line y = cy (eye height) across the sheet
+    hz, = polylines(page, "horizon")
+    assert all(y == pytest.approx(geo["cy"], abs=1e-9) for _, y in hz.points_mm)
+    assert 12 <= geo["cy"] <= 198
+    labels = [t.string for t in texts(page, "vp_label")]
+    finite = [vp for vp in plan.vanishing_points if not vp.at_infinity]
+    arrows = polylines(page, "vp_arrow")
+    for vp in finite:
+        on_sheet = 0 <= vp.xy_mm[0] <= 297 and 0 <= vp.xy_mm[1] <= 210
+        assert not on_sheet  # this camera puts both far off the paper
+    # each finite VP: an arrow whose tip's distance to the VP is printed
+    tips = [a.points_mm[1] for a in arrows[0::2]]
+    for vp, tip, label in zip(finite, tips, labels):
+        assert label == f"VP {'xyz'[vp.axis]}: {math.dist(tip, vp.xy_mm):.0f} mm"
+        # the arrow points at the VP
+        d = np.subtract(vp.xy_mm, tip)
+        shaft = np.subtract(tip, arrows[0::2][tips.index(tip)].points_mm[0])
+        assert np.dot(d, shaft) / np.linalg.norm(d) / np.linalg.norm(shaft) > 0.99
+    assert "VP z: at infinity (lines stay parallel)" in labels
+    # the offset from the nearest green corner locates the VP exactly (to the printed mm)
+    detail = [t.string for t in texts(page, "vp_detail")]
+    vx = [vp for vp in finite if vp.axis == 0][0].xy_mm
+    assert detail[0].startswith(f"{abs(vx[0] - 12):.0f} mm left")  # VP x left of the left frame edge
+
+
+def test_sheet_horizon_off_the_paper_is_stated():
+    plan = make_plan(el_deg=12.0)
+    _, geo = make_camera(el_deg=12.0)
+    assert geo["cy"] > 198  # eye above the frame's top (210 - 12)
+    page = L.lay_out_sheet("Digital camera", plan)
+    assert polylines(page, "horizon") == []
+    note, = texts(page, "horizon_label")
+    assert note.string == f"horizon: {geo['cy'] - 198:.0f} mm above the frame"
+
+
+def _project_plans():
+    """Plans on cameras from the project stage (three-point: a finite z VP; close: VP x on the
+    sheet), for layout checks beyond the factory's own camera."""
+    from h2s_print.config import ViewSpec
+    from h2s_print.project import make_camera as project_camera, vanishing_points as project_vps
+
+    pts = [(x, y, z) for x in (-40, 200) for y in (-40, 120) for z in (0, 110)]
+    for view in (ViewSpec("tp", 30, 35, 2.0, 50, "three-point"),
+                 ViewSpec("close", 45, 10, 1.6, 50, "two-point")):
+        for paper in (A4L, A4P):
+            cam = project_camera(view, pts, paper)
+            yield make_plan(paper_mm=(paper.width_mm, paper.height_mm), camera=cam,
+                            vps=project_vps(cam))
+
+
+def test_sheet_text_does_not_overlap():
+    plans = [make_plan(paper_mm=paper, el_deg=el) for el in (5.0, 12.0, 30.0)
+             for paper in ((297.0, 210.0), (210.0, 297.0))]
+    for plan in plans + list(_project_plans()):
+            page = L.lay_out_sheet("Digital camera", plan)
+            boxes = [(t.string, t.box_mm) for t in texts(page)]
+            for i, (sa, a) in enumerate(boxes):
+                for sb, b in boxes[i + 1:]:
+                    assert not (min(a[2], b[2]) > max(a[0], b[0]) and min(a[3], b[3]) > max(a[1], b[1])), (sa, sb)
+
+
+def test_horizon_agrees_with_the_project_stage():
+    from h2s_print.project import horizon_mm
+
+    for plan in _project_plans():
+        a, b, c = L.horizon_line(plan)
+        for x, y in horizon_mm(plan.camera):
+            assert abs(a * x + b * y + c) < 1e-6
+
+
+def test_vp_on_the_sheet_is_marked_where_it_is():
+    plan = make_plan()
+    vp = VanishingPoint(0, False, (250.0, 120.0), (1.0, 0.0))
+    plan2 = ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, (vp,), plan.steps)
+    page = L.lay_out_sheet("t", plan2)
+    mark, = [c for c in page.items if isinstance(c, L.Circle) and c.role == "vp"]
+    assert (mark.cx_mm, mark.cy_mm) == (250.0, 120.0)
+
+
+# ----------------------------------------------------------------------------- book
+
+
+def test_book_contents_outline_and_page_numbers():
+    plan_a, pages_a = workbook("novice")
+    _, pages_b = workbook("master")
+    book = L.lay_out_book("Sketching everyday objects", [
+        ("Camera > front-left > novice", pages_a), ("Camera > front-left > master", pages_b)])
+    # title + 1 contents page + 9 + 7
+    assert len(book) == 1 + 1 + len(pages_a) + len(pages_b) == 18
+    nums = [t.string for t in texts(book[1], "contents_page")]
+    assert nums == ["3", "12"]  # first workbook starts after title and contents; 3 + 9 = 12
+    assert book[2].kind == "cover" and book[11].kind == "cover"
+    marks = [(b.title, b.level) for p in book for b in p.bookmarks]
+    assert marks[:6] == [("Title page", 0), ("Contents", 0), ("Camera", 0), ("front-left", 1),
+                         ("novice", 2), ("Cover", 3)]
+    assert ("master", 2) in marks and marks.count(("Camera", 0)) == 1
+    footers = [t.string for p in book for t in texts(p, "page_number")]
+    assert footers[0].endswith("page 1 of 18")
+    # sheets carry no footer: 2 sheets -> 16 footers
+    assert len(footers) == 16
+
+
+# ----------------------------------------------------------------------------- helpers
+
+
+def test_clip_and_wrap():
+    pieces = L.clip_polyline([(-5, 5), (5, 5), (5, 15), (5, 20), (8, 5)], (0, 0, 10, 10))
+    assert pieces == [[(0.0, 5.0), (5.0, 5.0), (5.0, 10.0)], [(7.0, 10.0), (8.0, 5.0)]]
+    lines = L.wrap("a b " + "word " * 40, 50.0, 10)
+    assert all(L.text_width_mm(s, 10) <= 50.0 for s in lines) and len(lines) > 3
+    # Helvetica 'M' is 833/1000 em: at 10 pt, 8.33 pt = 2.9386 mm
+    assert L.text_width_mm("M", 10) == pytest.approx(8.33 * 25.4 / 72)
