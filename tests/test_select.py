@@ -227,7 +227,7 @@ def test_selection_json_and_determinism():
     b = select_candidates(cands, rels, SETTINGS)
     assert a.chosen == b.chosen and a.objective == b.objective
     data = json.loads(json.dumps(a.to_json()))
-    assert data["solver"] == "scip" and data["formulation"] == "quadratic"
+    assert data["solver"] == "scip" and data["formulation"] == SETTINGS.formulation == "linear"
     assert data["status"] == "optimal" and data["optimal"] is True and data["gap"] == 0.0
     assert data["weights"] == {"adjust": 1.0, "difficulty": 1.0} and data["max_change"] == 0.1
     assert data["selected"] == list(a.chosen) and data["seconds"] >= 0
