@@ -1,0 +1,919 @@
+"""Stage 6, *sequence*: a solved :class:`~h2s_print.plan.Plan` -> the steps of one view and level.
+
+DESIGN.md §2.6 and paper §5.  Public verbs:
+
+* :func:`view_camera` -- the one camera of a view, shared by all its levels;
+* :func:`sequence_view` (and :func:`sequence_views` for several levels at once) -- the
+  :class:`~h2s_print.types.ViewPlan` of a view and level;
+* :func:`final_strokes` -- the finished drawing (every part's contours hidden by all parts);
+* :func:`steps_text` -- a readable dump, one line per step.
+
+What a tutorial contains, in order
+----------------------------------
+1. **Primitive steps** (kind ``primitive``), one per part, in *drawing order*: the topological
+   order of the anchoring graph of the selected candidates (parents first); among the parts
+   whose parents are all drawn, the one whose selected box centre is closest to the camera
+   position comes first (ties: part name).  Each step's guides are built in 3D from its
+   anchors: the ratio's construction (:func:`h2s_print.constructions.construct`) on the
+   parent's *selected* box face named by the anchor; when the anchor leaves the side open
+   (``face_side is None``) the view picks, among the parent's faces parallel to the anchored
+   axis, the front-facing one with the largest projected area.  Alignment lines (role
+   ``vanishing``, :func:`h2s_print.constructions.align`) then carry the resulting line across,
+   in the plane of the anchored end, to the child's end face: along the line itself when the
+   child touches the face's plane, otherwise along the face normal from the result line's end
+   nearest the child (and, if needed, across to the child).  An anchor on a parent that is
+   flat along the anchored axis (``face_normal == axis``) needs no construction: the text says
+   "in the plane of ..." and no guide is drawn.
+2. **Ellipse steps** (kind ``ellipse``) for cylinders, in drawing order: both end faces of the
+   selected box (front-facing first), each with its diagonals (role ``construction``), the two
+   lines through the centre toward the vanishing points (role ``guide``) and the exact
+   projection of the inscribed circle (:func:`h2s_print.constructions.ellipse_on_face`).
+   Frusta here are rectangular: no ellipse.
+3. **Contour steps** (kind ``contour``), one per part in drawing order: the contours of the
+   *adjusted* mesh (the part mesh mapped from its fitted primitive box to its selected box,
+   :func:`h2s_print.contours.adjust_part`), hidden by the parts drawn so far plus itself
+   (:func:`h2s_print.contours.contour_steps`).  A part with nothing visible at that point gets
+   no contour step.
+
+Decisions where the brief is open (kept here, in one place)
+-----------------------------------------------------------
+* **Scaffold strokes.**  Cuboids, cylinders and custom parts: the 12 box edges; planes: the
+  rectangle at the box's mid-plane along the plane normal; frusta: both end rectangles and the
+  4 side edges.  An edge none of whose faces is front-facing (seen from the camera position;
+  occlusion by other parts is ignored: scaffolds are drawn "through") is kind
+  ``scaffold_hidden`` -- the layout may dash it -- the others kind ``scaffold``.
+* **Eyeball rule** (paper §5 (ii)).  For each parent face a primitive step constructs on,
+  ``A_p / k`` is the face's projected area on the sheet (mm²) over the number ``k`` of distinct
+  lines drawn on it; the part is "eyeballed" when any of its faces falls below
+  ``settings.eyeball_mm2``: no guides at any level, and the text says where to put it by eye
+  ("about a third of the way ...").  Ellipse steps use the same rule with ``k = 4`` per end face.
+  Parts without anchors are never eyeballed (there is nothing to construct).
+* **Left out** (paper §5 (iii)).  A part is *hidden* when :func:`~h2s_print.contours.final_contours`
+  (all parts hide all parts) leaves it no polyline; a hidden part is left out unless it is an
+  ancestor (in the anchoring graph) of a part that is not hidden.
+* **Levels.**  ``novice`` sees every line (roles ``construction``, ``guide``, ``vanishing``),
+  ``apprentice`` the resulting lines and the alignment lines that carry them (``guide``,
+  ``vanishing``), ``master`` none.  All three have the same steps, in the same order, with the
+  same texts (the text always says what to construct).  ``basic`` is the paper's control
+  tutorial: the fitted (original) primitives from largest to smallest box volume (ties: name),
+  kind ``basic``, eyeball True, no guides at all, no adjustment; then ellipses (no guides) and
+  contours of the unadjusted meshes in that order; hidden parts are left out.
+* **Guide identity and lifetime** (paper §5).  Two lines are the same guide when they are the
+  same 3D segment up to endpoint order, within ``MERGE_TOL`` × the model's bounding-box
+  diagonal (collinear but different segments stay different guides: they are different pencil
+  strokes).  Ids ``g1``, ``g2`` ... are numbered over the novice tutorial of the view in order
+  of first appearance, so a guide keeps its id at every level; a merged guide keeps the 3D
+  end points of its first appearance.  Within one step a line used with several roles takes
+  the strongest (``guide`` > ``vanishing`` > ``construction``).  Per level, a guide is
+  ``new`` in the first step that shows it, ``reused`` in later steps that show it, and
+  ``Step.alive`` lists (in id order of first appearance) every guide whose first use is at or
+  before the step and whose last use is at or after it.
+* **Camera.**  :func:`view_camera` frames the selected boxes' corners, the adjusted meshes'
+  vertices, *and* the fitted (original) boxes and meshes, so that the ``basic`` tutorial fits
+  the margins with the same camera.  Guides of extrusions can reach beyond those points: then
+  the picture is scaled down about the sheet centre (same camera pose) until every guide any
+  level could show lies inside the margins too.
+* **Text.**  Every sentence comes from ``templates/steps.yaml``.  Vanishing points are named by
+  where they lie on the sheet seen from the drawing's centre (left/right when the horizontal
+  offset dominates, above/below otherwise), "parallel to the ... edges" at infinity.
+
+Every ``*_mm`` coordinate is ``camera.project`` of its 3D point.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from . import templates
+from .config import PaperSpec, SequenceSettings, ViewSpec
+from .constructions import Face, align, construct, ellipse_on_face
+from .contours import adjust_part, contour_steps, final_contours
+from .errors import SelectionError
+from .project import make_camera, vanishing_points
+from .ratios import entry_for
+from .types import Box, Camera, Guide, Part, Step, Stroke, VanishingPoint, Vec3, ViewPlan
+
+log = logging.getLogger(__name__)
+
+#: Lines whose end points agree within this fraction of the model's diagonal are one guide.
+MERGE_TOL = 1e-6
+#: Roles shown at each level.
+LEVEL_ROLES: dict[str, frozenset[str]] = {
+    "novice": frozenset({"construction", "guide", "vanishing"}),
+    "apprentice": frozenset({"guide", "vanishing"}),
+    "master": frozenset(),
+    "basic": frozenset(),
+}
+_ROLE_RANK = {"construction": 0, "vanishing": 1, "guide": 2}
+_XYZ = "xyz"
+
+
+def _t(key: str, **fields: Any) -> str:
+    for k in ("part", "parent"):  # part names are identifiers: "shutter_button" -> "shutter button"
+        if isinstance(fields.get(k), str):
+            fields[k] = fields[k].replace("_", " ")
+    return templates.text("steps", key, **fields)
+
+
+def _raw(key: str) -> Any:
+    return templates.lookup("steps", key)
+
+
+# ----------------------------------------------------------------------------- geometry helpers
+
+
+def _vec(p: Any) -> Vec3:
+    return (float(p[0]), float(p[1]), float(p[2]))
+
+
+def _box_corners(box: Box) -> np.ndarray:
+    lo, hi = box
+    return np.array([[(lo, hi)[i][0], (lo, hi)[j][1], (lo, hi)[k][2]]
+                     for i in (0, 1) for j in (0, 1) for k in (0, 1)], dtype=float)
+
+
+def _extent(box: Box, axis: int) -> float:
+    return box[1][axis] - box[0][axis]
+
+
+def _map_points(points: np.ndarray, from_box: Box, to_box: Box) -> np.ndarray:
+    """The per-axis affine change of :func:`h2s_print.contours.adjust_part`, on points."""
+    out = np.empty_like(points)
+    for ax in range(3):
+        flo, fhi, tlo, thi = from_box[0][ax], from_box[1][ax], to_box[0][ax], to_box[1][ax]
+        if fhi - flo > 0.0:
+            t = (points[:, ax] - flo) / (fhi - flo)
+            out[:, ax] = (1.0 - t) * tlo + t * thi
+        else:
+            out[:, ax] = points[:, ax] - flo + tlo
+    return out
+
+
+def _volume(box: Box) -> float:
+    return _extent(box, 0) * _extent(box, 1) * _extent(box, 2)
+
+
+def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
+    """Area on the sheet (mm²) of a planar polygon's projection (shoelace)."""
+    p = camera.project(np.asarray(corners, dtype=float))
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def _front_facing(face: Face, camera: Camera) -> bool:
+    """True when the face's outer side looks toward the camera position."""
+    sign = 1.0 if face.end == "hi" else -1.0
+    return sign * (camera.position[face.normal] - face.coord) > 0.0
+
+
+# ----------------------------------------------------------------------------- camera
+
+
+def _adjusted_parts(plan: Any) -> dict[str, Part]:
+    chosen = plan.chosen()
+    return {p.name: adjust_part(p, plan.primitive(p.name).box, chosen[p.name].box)
+            for p in plan.model.parts}
+
+
+def _frame_points(plan: Any, adjusted: dict[str, Part]) -> np.ndarray:
+    chosen = plan.chosen()
+    pts = [_box_corners(chosen[p.name].box) for p in plan.model.parts]
+    pts += [_box_corners(plan.primitive(p.name).box) for p in plan.model.parts]
+    pts += [np.asarray(adjusted[p.name].vertices, dtype=float) for p in plan.model.parts]
+    pts += [np.asarray(p.vertices, dtype=float) for p in plan.model.parts]
+    return np.vstack([p for p in pts if len(p)])
+
+
+def _guide_points(plan: Any, camera: Camera, tol: float) -> np.ndarray:
+    """End points of every guide any level of this view could show (eyeball rule ignored)."""
+    by_id = {c.id: c for c in plan.candidates}
+    pts: list[Vec3] = []
+    for cand in plan.chosen().values():
+        for anchor in cand.anchors:
+            if anchor.face_normal == anchor.axis:
+                continue
+            _, _, own, carry = _anchor_lines(anchor, by_id[anchor.parent].box, cand.box, camera,
+                                             tol)
+            pts += [p for ln in own + carry for p in (ln.start, ln.end)]
+    return np.array(pts, dtype=float).reshape(-1, 3)
+
+
+def _fit_camera(plan: Any, view: ViewSpec, paper: PaperSpec, adjusted: dict[str, Part],
+                tol: float) -> Camera:
+    framed = _frame_points(plan, adjusted)
+    camera = make_camera(view, framed, paper)
+    guides = _guide_points(plan, camera, tol)
+    if not len(guides):
+        return camera
+    m = paper.margin_mm
+    x0, y0, x1, y1 = m, m, paper.width_mm - m, paper.height_mm - m
+    f = camera.project(framed)
+    flo, fhi = f.min(axis=0), f.max(axis=0)
+    a = np.vstack([f, camera.project(guides)])
+    alo, ahi = a.min(axis=0), a.max(axis=0)
+    if alo[0] >= x0 - 1e-9 and alo[1] >= y0 - 1e-9 and ahi[0] <= x1 + 1e-9 and ahi[1] <= y1 + 1e-9:
+        return camera
+    # Shrink and centre everything (points and guides) into the margins.  The camera's pose
+    # does not change, only the 2D similarity on the sheet: passing make_camera the area where
+    # the framed points must land reproduces exactly that similarity.
+    k = min((x1 - x0) / (ahi[0] - alo[0]), (y1 - y0) / (ahi[1] - alo[1]))
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+    mid = (alo + ahi) / 2
+    lo = centre + k * (flo - mid)
+    hi = centre + k * (fhi - mid)
+    log.debug("view %r: guides reach beyond the margins; drawing scaled by %.4f", view.name, k)
+    return make_camera(view, framed, paper, area_mm=(lo[0], lo[1], hi[0], hi[1]))
+
+
+def _tolerance(plan: Any) -> float:
+    lo, hi = plan.model.bounds
+    return MERGE_TOL * (float(np.linalg.norm(np.subtract(hi, lo))) or 1.0)
+
+
+def view_camera(plan: Any, view: ViewSpec, paper: PaperSpec) -> Camera:
+    """The camera of ``view``, shared by all its levels and its calibrated sheet.
+
+    It frames (inside the paper margins) the selected boxes' corners, the adjusted part meshes'
+    vertices, and the fitted primitives' boxes and unadjusted meshes (used by ``basic``); when
+    a guide (of any level) would reach beyond the margins, the drawing is scaled down about
+    the sheet's centre until every guide fits too (same camera pose, smaller picture).
+
+    Raises:
+        ConfigError: the view cannot see the model (see :func:`h2s_print.project.make_camera`).
+    """
+    return _fit_camera(plan, view, paper, _adjusted_parts(plan), _tolerance(plan))
+
+
+# ----------------------------------------------------------------------------- words
+
+
+class _Words:
+    """Names of faces, sides, dimensions and vanishing points for this view's texts."""
+
+    def __init__(self, camera: Camera, vps: Sequence[VanishingPoint], centre_mm: np.ndarray):
+        edges = _raw("edges")
+        keys: dict[int, str] = {}
+        for vp in vps:
+            if vp.at_infinity or vp.xy_mm is None:
+                continue
+            dx = vp.xy_mm[0] - float(centre_mm[0])
+            dy = vp.xy_mm[1] - float(centre_mm[1])
+            if abs(dx) >= abs(dy):
+                keys[vp.axis] = "right" if dx > 0 else "left"
+            else:
+                keys[vp.axis] = "above" if dy > 0 else "below"
+        self.vps: dict[int, str] = {}
+        for vp in vps:
+            if vp.axis not in keys:
+                self.vps[vp.axis] = _t("vp.infinite", edges=edges[vp.axis])
+                continue
+            key = keys[vp.axis]
+            clash = sum(1 for k in keys.values() if k == key) > 1
+            self.vps[vp.axis] = (_t(f"vp.{key}_of", edges=edges[vp.axis]) if clash
+                                 else _t(f"vp.{key}"))
+
+    def vp(self, axis: int) -> str:
+        return self.vps[axis]
+
+    @staticmethod
+    def face(axis: int, end: str) -> str:
+        return _raw("faces")[f"{_XYZ[axis]}_{end}"]
+
+    @staticmethod
+    def side(axis: int, end: str) -> str:
+        return _raw("sides")[f"{_XYZ[axis]}_{end}"]
+
+    @staticmethod
+    def dim(axis: int) -> str:
+        return _raw("dims")[axis]
+
+    @staticmethod
+    def shape(kind: str) -> str:
+        shapes = _raw("shapes")
+        return shapes.get(kind, shapes["cuboid"])
+
+
+def _join(items: Sequence[str]) -> str:
+    items = list(items)
+    if len(items) <= 1:
+        return "".join(items)
+    return _raw("join").join(items[:-1]) + _raw("join_last") + items[-1]
+
+
+def _unique(items: Iterable[str]) -> list[str]:
+    out: list[str] = []
+    for s in items:
+        if s not in out:
+            out.append(s)
+    return out
+
+
+# ----------------------------------------------------------------------------- drafts
+
+
+@dataclass(frozen=True, slots=True)
+class _Line:
+    """A guide line before ids: role and 3D end points."""
+
+    role: str
+    start: Vec3
+    end: Vec3
+
+
+@dataclass(frozen=True, slots=True)
+class _Draft:
+    """A step before guide ids, statuses and level filtering."""
+
+    part: str | None
+    kind: str
+    text: str
+    eyeball: bool
+    lines: tuple[_Line, ...]
+    strokes: tuple[Stroke, ...]
+
+
+def _stroke(kind: str, part: str, points: np.ndarray, camera: Camera) -> Stroke:
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    mm = camera.project(pts)
+    return Stroke(kind, part, tuple(_vec(p) for p in pts),
+                  tuple((float(q[0]), float(q[1])) for q in mm))
+
+
+def _solid(primitive: Any, box: Box) -> tuple[np.ndarray, list[tuple[int, ...]], bool]:
+    """Vertices, faces (index tuples) and "flat" flag of the scaffold of ``primitive`` drawn in
+    ``box`` (the fitted box mapped to ``box`` per axis for frusta)."""
+    kind, axis = primitive.type, primitive.axis
+    if kind == "plane" and axis is not None:
+        u, v = (a for a in range(3) if a != axis)
+        mid = 0.5 * (box[0][axis] + box[1][axis])
+        quad = []
+        for cu, cv in ((0, 0), (1, 0), (1, 1), (0, 1)):
+            p = [0.0, 0.0, 0.0]
+            p[axis] = mid
+            p[u] = box[cu][u]
+            p[v] = box[cv][v]
+            quad.append(p)
+        return np.array(quad, dtype=float), [(0, 1, 2, 3)], True
+    detail = primitive.detail or {}
+    if kind == "frustum" and axis is not None and {"lo_half", "hi_half", "centre"} <= set(detail):
+        u, v = (a for a in range(3) if a != axis)
+        fb = primitive.box
+        verts = []
+        for end, half in ((0, detail["lo_half"]), (1, detail["hi_half"])):
+            for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = [0.0, 0.0, 0.0]
+                p[axis] = fb[end][axis]
+                p[u] = float(detail["centre"][0]) + su * float(half[0])
+                p[v] = float(detail["centre"][1]) + sv * float(half[1])
+                verts.append(p)
+        pts = _map_points(np.array(verts, dtype=float), fb, box)
+        faces = [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+        return pts, faces, False
+    # box: corner index i*4 + j*2 + k for (x, y, z) ends (i, j, k)
+    pts = _box_corners(box)
+    faces = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
+    return pts, faces, False
+
+
+def _scaffold(part: str, primitive: Any, box: Box, camera: Camera, tol: float) -> tuple[Stroke, ...]:
+    """The primitive's edges as strokes: ``scaffold`` when an adjacent face is front-facing,
+    else ``scaffold_hidden`` (see the module docstring)."""
+    pts, faces, flat = _solid(primitive, box)
+    centre = pts.mean(axis=0)
+    cam = np.asarray(camera.position, dtype=float)
+    front: list[bool] = []
+    for f in faces:
+        poly = pts[list(f)]
+        normal = np.zeros(3)
+        for i in range(len(poly)):  # Newell's method
+            a, b = poly[i], poly[(i + 1) % len(poly)]
+            normal += np.cross(a, b)
+        fc = poly.mean(axis=0)
+        if np.dot(normal, fc - centre) < 0:
+            normal = -normal
+        front.append(bool(np.dot(normal, cam - fc) > 0) and float(np.linalg.norm(normal)) > 0)
+    edges: dict[tuple[int, int], bool] = {}
+    for f, fr in zip(faces, front):
+        for i in range(len(f)):
+            e = tuple(sorted((f[i], f[(i + 1) % len(f)])))
+            edges[e] = edges.get(e, False) or fr or flat
+    strokes: list[Stroke] = []
+    seen: list[tuple[np.ndarray, np.ndarray]] = []
+    for (i, j), visible in sorted(edges.items()):
+        a, b = pts[i], pts[j]
+        if float(np.linalg.norm(b - a)) <= tol:
+            continue
+        if any((np.abs(a - p).max() <= tol and np.abs(b - q).max() <= tol)
+               or (np.abs(a - q).max() <= tol and np.abs(b - p).max() <= tol) for p, q in seen):
+            continue
+        seen.append((a, b))
+        strokes.append(_stroke("scaffold" if visible else "scaffold_hidden", part,
+                               np.array([a, b]), camera))
+    # visible edges first, each group in a stable order
+    return tuple(sorted(strokes, key=lambda s: s.kind != "scaffold"))
+
+
+def _anchor_face(anchor: Any, pbox: Box, camera: Camera) -> Face:
+    """The parent face an anchor's construction is drawn on (module docstring)."""
+    if anchor.face_side is not None:
+        return Face(pbox, anchor.face_normal, anchor.face_side)
+    best: tuple[tuple[bool, float], Face] | None = None
+    biggest = max(_extent(pbox, a) for a in range(3))
+    for n in range(3):
+        if n == anchor.axis:
+            continue
+        other = 3 - n - anchor.axis
+        if _extent(pbox, other) <= 1e-12 * biggest or _extent(pbox, anchor.axis) <= 0.0:
+            continue
+        for end in ("lo", "hi"):
+            f = Face(pbox, n, end)
+            key = (_front_facing(f, camera), _polygon_area_mm2(camera, f.corners))
+            if best is None or key > best[0]:
+                best = (key, f)
+    if best is None:  # degenerate parent: fall back to the candidate's own choice
+        return Face(pbox, anchor.face_normal, "lo")
+    return best[1]
+
+
+def _carry_lines(con: Any, face: Face, child: Box, tol: float) -> list[_Line]:
+    """Alignment lines, in the plane of the anchored end, from the construction's result line
+    to the child's end face (module docstring)."""
+    a, n = con.axis, face.normal
+    o = 3 - a - n
+    c = face.coord
+    plo, phi = face.box[0][o], face.box[1][o]
+    clo, chi = child[0][o], child[1][o]
+
+    def pt(nv: float, ov: float) -> Vec3:
+        p = [0.0, 0.0, 0.0]
+        p[a], p[n], p[o] = con.coord, nv, ov
+        return (p[0], p[1], p[2])
+
+    segs: list[tuple[Vec3, Vec3]] = []
+    if child[0][n] - tol <= c <= child[1][n] + tol:
+        if chi > phi + tol:
+            segs.append((pt(c, phi), pt(c, chi)))
+        if clo < plo - tol:
+            segs.append((pt(c, plo), pt(c, clo)))
+    else:
+        m = child[0][n] if c < child[0][n] else child[1][n]
+        centre = 0.5 * (clo + chi)
+        ostar = plo if abs(plo - centre) < abs(phi - centre) else phi
+        segs.append((pt(c, ostar), pt(m, ostar)))
+        if ostar > chi + tol:
+            segs.append((pt(m, ostar), pt(m, chi)))
+        elif ostar < clo - tol:
+            segs.append((pt(m, ostar), pt(m, clo)))
+    out = []
+    for s, e in segs:
+        if max(abs(s[i] - e[i]) for i in range(3)) <= tol:
+            continue
+        ln = align(s, e)
+        out.append(_Line("vanishing", ln.start, ln.end))
+    return out
+
+
+def _anchor_lines(anchor: Any, pbox: Box, cbox: Box, camera: Camera,
+                  tol: float) -> tuple[Face, Any, list[_Line], list[_Line]]:
+    """An anchor's construction face, its construction, its lines and the carrying lines."""
+    face = _anchor_face(anchor, pbox, camera)
+    con = construct(face, anchor.axis, anchor.ratio)
+    own = [_Line(ln.role, ln.start, ln.end) for ln in con.lines]
+    return face, con, own, _carry_lines(con, face, cbox, tol)
+
+
+def _construct_sentence(words: _Words, anchor: Any, parent: str, face: Face, con: Any) -> str:
+    entry = entry_for(anchor.ratio)
+    axis, r = anchor.axis, anchor.ratio
+    fname = words.face(face.normal, face.end)
+    vp = words.vp(con.result.axis if con.result.axis is not None else 3 - axis - face.normal)
+    name = entry.name
+    if name in ("start", "end"):
+        return _t("primitive.construct.align", edge=words.face(axis, "lo" if r < 0.5 else "hi"),
+                  parent=parent, face=fname, vp=vp)
+    near = words.face(axis, "lo" if r < 0.5 else "hi")
+    if name == "half":
+        return _t("primitive.construct.half", parent=parent, face=fname, vp=vp)
+    if name in ("quarter", "three-quarters"):
+        return _t("primitive.construct.quarter", parent=parent, face=fname, near=near, vp=vp)
+    if name in ("third", "two-thirds"):
+        return _t("primitive.construct.third", parent=parent, face=fname, near=near, vp=vp)
+    key = "extend_one" if name.startswith("extend-1") else "extend_half"
+    return _t(f"primitive.construct.{key}", parent=parent, face=fname, near=near,
+              dim=words.dim(axis), vp=vp)
+
+
+def _construct_sentences(words: _Words, built: Sequence[tuple[Any, str, Face, Any]]) -> list[str]:
+    """One sentence per construction, pairs on one face said together: the two edges of an
+    alignment, quarters (1/4 and 3/4), thirds (1/3 and 2/3)."""
+    groups: dict[tuple, list[tuple[Any, str, Face, Any]]] = {}
+    for item in built:
+        anchor, parent, face, _ = item
+        groups.setdefault((anchor.parent, face.normal, face.end, anchor.axis), []).append(item)
+    out: list[str] = []
+    for items in groups.values():
+        names = {entry_for(a.ratio).name: (a, p, f, c) for a, p, f, c in items}
+        pair = None
+        for key, (x, y) in (("align_both", ("start", "end")), ("quarters", ("quarter", "three-quarters")),
+                            ("thirds", ("third", "two-thirds"))):
+            if x in names and y in names:
+                pair = key, x, y
+                break
+        done: set[str] = set()
+        if pair is not None:
+            key, x, y = pair
+            anchor, parent, face, con = names[x]
+            out.append(_t(f"primitive.construct.{key}", parent=parent,
+                          face=words.face(face.normal, face.end),
+                          edge=words.face(anchor.axis, "lo"), edge2=words.face(anchor.axis, "hi"),
+                          vp=words.vp(con.result.axis)))
+            done = {x, y}
+        for a, p, f, c in items:
+            if entry_for(a.ratio).name not in done:
+                out.append(_construct_sentence(words, a, p, f, c))
+    return out
+
+
+def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
+    axis, r = anchor.axis, anchor.ratio
+    side = words.side(axis, anchor.end)
+    if anchor.face_normal == axis:
+        return _t("primitive.position.flat", side=side, parent=parent)
+    entry = entry_for(r)
+    ab = _raw("about") if about else ""
+    if entry.name in ("start", "end"):
+        return _t("primitive.position.align", side=side, parent=parent,
+                  pside=words.side(axis, "lo" if r < 0.5 else "hi"))
+    if not entry.extrusion:
+        return _t("primitive.position.inside", side=side, about=ab,
+                  fraction=_raw("primitive.fractions")[entry.name], parent=parent,
+                  lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
+    amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+    return _t("primitive.position.extend", side=side, about=ab, amount=amount, parent=parent,
+              dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+# ----------------------------------------------------------------------------- the view context
+
+
+@dataclass(eq=False)
+class _Context:
+    """Everything a view needs, computed once and shared by its levels (never escapes)."""
+
+    plan: Any
+    camera: Camera
+    settings: SequenceSettings
+    vps: tuple[VanishingPoint, ...]
+    words: _Words
+    tol: float
+    by_id: dict[str, Any]
+    chosen: dict[str, Any]
+    adjusted: dict[str, Part]
+    originals: dict[str, Part]
+    _guided: tuple[_Draft, ...] | None = None
+    _basic: tuple[_Draft, ...] | None = None
+    _ids: tuple[tuple[tuple[str, str], ...], ...] | None = None
+    _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
+
+    # -------------------------------------------------------------- order and visibility
+    def guided_order(self) -> list[str]:
+        """Drawing order: parents first, then closest box centre, then name."""
+        parents = {part: sorted({self.by_id[pid].part for pid in c.parents})
+                   for part, c in self.chosen.items()}
+        cam = np.asarray(self.camera.position, dtype=float)
+        dist = {part: float(np.linalg.norm(np.mean(np.asarray(c.box, dtype=float), axis=0) - cam))
+                for part, c in self.chosen.items()}
+        placed: list[str] = []
+        done: set[str] = set()
+        remaining = set(self.chosen)
+        while remaining:
+            ready = [p for p in remaining if all(q in done for q in parents[p])]
+            if not ready:
+                raise SelectionError(f"the anchoring graph has a cycle among {sorted(remaining)}")
+            if placed:
+                nxt = min(ready, key=lambda p: (dist[p], p))
+            else:  # the first primitive: the biggest root (the body), as a person would start
+                nxt = min(ready, key=lambda p: (-_volume(self.chosen[p].box), dist[p], p))
+            placed.append(nxt)
+            done.add(nxt)
+            remaining.discard(nxt)
+        return placed
+
+    def kept(self, parts: dict[str, Part], anchoring: bool) -> set[str]:
+        """Parts not left out: visible ones and (``anchoring``) their ancestors."""
+        names = [p.name for p in self.plan.model.parts]
+        sets = final_contours([parts[n] for n in names], self.camera,
+                              crease_deg=self.settings.crease_deg,
+                              suggestive=self.settings.suggestive)
+        visible = {cs.part for cs in sets if any(len(pl) >= 2 for pl in cs.polylines3d)}
+        keep = set(visible)
+        if anchoring:
+            stack = list(visible)
+            while stack:
+                part = stack.pop()
+                for pid in self.chosen[part].parents:
+                    pp = self.by_id[pid].part
+                    if pp not in keep:
+                        keep.add(pp)
+                        stack.append(pp)
+        left_out = sorted(set(names) - keep)
+        if left_out:
+            log.info("left out (hidden, anchoring nothing visible): %s", ", ".join(left_out))
+        return keep
+
+    # -------------------------------------------------------------- drafts
+    def primitive_draft(self, part: str, first: bool) -> _Draft:
+        cand = self.chosen[part]
+        prim = self.plan.primitive(part)
+        words = self.words
+        strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
+        shape = words.shape(prim.type)
+        if first:
+            return _Draft(part, "primitive", _t("primitive.first", part=part, shape=shape), False,
+                          (), strokes)
+        if not cand.anchors:
+            return _Draft(part, "primitive", _t("primitive.root", part=part, shape=shape), False,
+                          (), strokes)
+        lines: list[_Line] = []
+        built: list[tuple[Any, str, Face, Any]] = []
+        flat_sentences: list[str] = []
+        faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
+        carried = False
+        for anchor in cand.anchors:
+            parent = self.by_id[anchor.parent]
+            if anchor.face_normal == anchor.axis:
+                flat_sentences.append(_t("primitive.flat", part=part, parent=parent.part,
+                                         side=words.side(anchor.axis, anchor.end)))
+                continue
+            face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
+                                                  self.tol)
+            lines += own
+            faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
+            built.append((anchor, parent.part, face, con))
+            if carry:
+                carried = True
+                lines += carry
+        eyeball = False
+        for face, own in faces.values():
+            k = len(_distinct(own, self.tol))
+            area = _polygon_area_mm2(self.camera, face.corners)
+            if k and area / k < self.settings.eyeball_mm2:
+                eyeball = True
+        by_eye = self.by_eye_sentence(cand)
+        if eyeball:
+            where = _join([_position(words, a, self.by_id[a.parent].part, True)
+                           for a in cand.anchors])
+            text = " ".join([_t("primitive.eyeball", part=part, where=where, shape=shape)]
+                            + ([by_eye] if by_eye else []))
+            return _Draft(part, "primitive", text, True, (), strokes)
+        parts = _unique(_construct_sentences(words, built)) + _unique(flat_sentences)
+        if carried:
+            parts.append(_t("primitive.carry", part=part))
+        parts.append(_t("primitive.place", part=part, shape=shape))
+        if by_eye:
+            parts.append(by_eye)
+        return _Draft(part, "primitive", " ".join(parts), False, tuple(lines), strokes)
+
+    def by_eye_sentence(self, cand: Any) -> str:
+        biggest = max(_extent(cand.box, a) for a in range(3))
+        loose = [a for a in range(3)
+                 if sum(1 for an in cand.anchors if an.axis == a) < 2
+                 and _extent(cand.box, a) > 1e-9 * biggest]
+        if not loose:
+            return ""
+        return _t("primitive.by_eye", dims=_join([self.words.dim(a) for a in loose]))
+
+    def ellipse_draft(self, part: str, box: Box, basic: bool) -> _Draft:
+        prim = self.plan.primitive(part)
+        axis = prim.axis
+        ends = [Face(box, axis, "lo"), Face(box, axis, "hi")]
+        ends.sort(key=lambda f: (not _front_facing(f, self.camera), f.end))
+        lines: list[_Line] = []
+        strokes: list[Stroke] = []
+        eyeball = basic
+        for face in ends:
+            fe = ellipse_on_face(face, self.camera)
+            lines += [_Line(ln.role, ln.start, ln.end) for ln in fe.lines]
+            pts = np.vstack([fe.points3d, fe.points3d[:1]])
+            strokes.append(_stroke("ellipse", part, pts, self.camera))
+            if _polygon_area_mm2(self.camera, face.corners) / 4.0 < self.settings.eyeball_mm2:
+                eyeball = True
+        u, v = ends[0].in_axes
+        if basic:
+            text = _t("basic.ellipse", part=part)
+        elif eyeball:
+            text = _t("ellipse.eyeball", part=part)
+        else:
+            text = _t("ellipse.guided", part=part, vp_u=self.words.vp(u), vp_v=self.words.vp(v))
+        return _Draft(part, "ellipse", text, eyeball, () if eyeball else tuple(lines),
+                      tuple(strokes))
+
+    def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
+        sets = contour_steps([parts[p] for p in order], self.camera,
+                             crease_deg=self.settings.crease_deg,
+                             suggestive=self.settings.suggestive)
+        out: list[_Draft] = []
+        for cs in sets:
+            strokes = tuple(_stroke("contour", cs.part, np.asarray(pl, dtype=float), self.camera)
+                            for pl in cs.polylines3d if len(pl) >= 2)
+            if not strokes:
+                continue
+            key = "contour.first" if not out else "contour.next"
+            out.append(_Draft(cs.part, "contour", _t(key, part=cs.part), False, (), strokes))
+        return out
+
+    def guided(self) -> tuple[_Draft, ...]:
+        if self._guided is None:
+            keep = self.kept(self.adjusted, anchoring=True)
+            order = [p for p in self.guided_order() if p in keep]
+            drafts = [self.primitive_draft(p, i == 0) for i, p in enumerate(order)]
+            drafts += [self.ellipse_draft(p, self.chosen[p].box, False) for p in order
+                       if self.plan.primitive(p).type == "cylinder"
+                       and self.plan.primitive(p).axis is not None]
+            drafts += self.contour_drafts(order, self.adjusted)
+            self._guided = tuple(drafts)
+        return self._guided
+
+    def basic(self) -> tuple[_Draft, ...]:
+        if self._basic is None:
+            keep = self.kept(self.originals, anchoring=False)
+
+            order = sorted(keep, key=lambda p: (-_volume(self.plan.primitive(p).box), p))
+            drafts: list[_Draft] = []
+            for i, p in enumerate(order):
+                prim = self.plan.primitive(p)
+                shape = self.words.shape(prim.type)
+                text = _t("basic.first" if i == 0 else "basic.part", part=p, shape=shape)
+                drafts.append(_Draft(p, "basic", text, True, (),
+                                     _scaffold(p, prim, prim.box, self.camera, self.tol)))
+            drafts += [self.ellipse_draft(p, self.plan.primitive(p).box, True) for p in order
+                       if self.plan.primitive(p).type == "cylinder"
+                       and self.plan.primitive(p).axis is not None]
+            drafts += self.contour_drafts(order, self.originals)
+            self._basic = tuple(drafts)
+        return self._basic
+
+    # -------------------------------------------------------------- guides
+    def guide_ids(self) -> tuple[tuple[tuple[str, str], ...], ...]:
+        """Per guided draft, its lines as ``(guide id, role)``, merged within the step."""
+        if self._ids is None:
+            reg: list[tuple[np.ndarray, np.ndarray]] = []
+            out = []
+            for d in self.guided():
+                step: dict[str, str] = {}
+                for ln in d.lines:
+                    a, b = np.asarray(ln.start), np.asarray(ln.end)
+                    gid = None
+                    for i, (p, q) in enumerate(reg):
+                        if ((np.abs(a - p).max() <= self.tol and np.abs(b - q).max() <= self.tol)
+                                or (np.abs(a - q).max() <= self.tol
+                                    and np.abs(b - p).max() <= self.tol)):
+                            gid = f"g{i + 1}"
+                            break
+                    if gid is None:
+                        reg.append((a, b))
+                        gid = f"g{len(reg)}"
+                        self._canon[gid] = (ln.start, ln.end)
+                    if gid not in step or _ROLE_RANK[ln.role] > _ROLE_RANK[step[gid]]:
+                        step[gid] = ln.role
+                out.append(tuple(step.items()))
+            self._ids = tuple(out)
+        return self._ids
+
+    def view_plan(self, name: str, level: str, paper: PaperSpec) -> ViewPlan:
+        if level not in LEVEL_ROLES:
+            raise ValueError(f"level must be one of {', '.join(LEVEL_ROLES)}, got {level!r}")
+        if level == "basic":
+            drafts = self.basic()
+            shown: list[list[tuple[str, str]]] = [[] for _ in drafts]
+        else:
+            drafts = self.guided()
+            roles = LEVEL_ROLES[level]
+            shown = [[(g, r) for g, r in ids if r in roles] for ids in self.guide_ids()]
+        first: dict[str, int] = {}
+        last: dict[str, int] = {}
+        for i, gs in enumerate(shown):
+            for gid, _ in gs:
+                first.setdefault(gid, i)
+                last[gid] = i
+        ordered = sorted(first, key=lambda g: (first[g], int(g[1:])))
+        mm: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {}
+        for gid in ordered:
+            a, b = self._canon[gid]
+            p = self.camera.project(np.array([a, b], dtype=float))
+            mm[gid] = ((float(p[0, 0]), float(p[0, 1])), (float(p[1, 0]), float(p[1, 1])))
+        steps = []
+        for i, (d, gs) in enumerate(zip(drafts, shown)):
+            guides = tuple(
+                Guide(gid, "new" if first[gid] == i else "reused", self._canon[gid][0],
+                      self._canon[gid][1], mm[gid][0], mm[gid][1], role)
+                for gid, role in gs)
+            alive = tuple(g for g in ordered if first[g] <= i <= last[g])
+            steps.append(Step(i + 1, d.part, d.kind, d.text, d.eyeball, guides, d.strokes, alive))
+        return ViewPlan(name, level, (float(paper.width_mm), float(paper.height_mm)), self.camera,
+                        self.vps, tuple(steps))
+
+
+def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
+    out: list[_Line] = []
+    for ln in lines:
+        a, b = np.asarray(ln.start), np.asarray(ln.end)
+        if not any((np.abs(a - np.asarray(o.start)).max() <= tol
+                    and np.abs(b - np.asarray(o.end)).max() <= tol)
+                   or (np.abs(a - np.asarray(o.end)).max() <= tol
+                       and np.abs(b - np.asarray(o.start)).max() <= tol) for o in out):
+            out.append(ln)
+    return out
+
+
+#: The last view context (plan, view, paper, settings) -> context; the plan is held so its id
+#: cannot be reused while cached.  Levels of one view share it (pure: same inputs, same output).
+_LAST: list[tuple[tuple[Any, ...], _Context]] = []
+
+
+def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSettings) -> _Context:
+    key = (plan, view, paper, settings)
+    if _LAST and _LAST[0][0][0] is plan and _LAST[0][0][1:] == key[1:]:
+        return _LAST[0][1]
+    adjusted = _adjusted_parts(plan)
+    tol = _tolerance(plan)
+    camera = _fit_camera(plan, view, paper, adjusted, tol)
+    vps = vanishing_points(camera)
+    chosen = plan.chosen()
+    centre = camera.project(np.vstack([_box_corners(c.box) for c in chosen.values()]))
+    centre_mm = 0.5 * (centre.min(axis=0) + centre.max(axis=0))
+    ctx = _Context(plan=plan, camera=camera, settings=settings, vps=vps,
+                   words=_Words(camera, vps, centre_mm), tol=tol,
+                   by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
+                   originals={p.name: p for p in plan.model.parts})
+    _LAST[:] = [(key, ctx)]
+    return ctx
+
+
+# ----------------------------------------------------------------------------- public API
+
+
+def sequence_views(plan: Any, view: ViewSpec, levels: Sequence[str], paper: PaperSpec,
+                   settings: SequenceSettings) -> tuple[ViewPlan, ...]:
+    """The :class:`ViewPlan` of ``view`` at each of ``levels`` (one camera, shared work).
+
+    Raises:
+        ValueError: an unknown level.
+        SelectionError: the selected candidates' anchoring graph has a cycle.
+        ConfigError: the view cannot see the model.
+    """
+    ctx = _context(plan, view, paper, settings)
+    return tuple(ctx.view_plan(view.name, level, paper) for level in levels)
+
+
+def sequence_view(plan: Any, view: ViewSpec, level: str, paper: PaperSpec,
+                  settings: SequenceSettings) -> ViewPlan:
+    """The steps a person follows for ``view`` at ``level`` (module docstring).
+
+    Args:
+        plan: the solved model-level plan (stages 1-5).
+        view: the viewpoint.
+        level: ``novice``, ``apprentice``, ``master`` or ``basic``.
+        paper: the sheet (its margins frame the drawing).
+        settings: eyeball threshold (mm²) and contour settings.
+
+    Returns:
+        The view plan: camera (:func:`view_camera`), vanishing points and ordered steps.
+    """
+    return sequence_views(plan, view, (level,), paper, settings)[0]
+
+
+def final_strokes(plan: Any, camera: Camera, settings: SequenceSettings, *,
+                  level: str | None = None) -> tuple[Stroke, ...]:
+    """The finished drawing: every part's contours hidden by all parts (kind ``contour``).
+
+    Args:
+        plan: the solved plan.
+        camera: the view's camera.
+        settings: crease angle and suggestive contours.
+        level: ``basic`` draws the unadjusted meshes (the control tutorial); any other value
+            (or ``None``) the adjusted ones.
+    """
+    parts = (list(plan.model.parts) if level == "basic"
+             else list(_adjusted_parts(plan).values()))
+    sets = final_contours(parts, camera, crease_deg=settings.crease_deg,
+                          suggestive=settings.suggestive)
+    return tuple(_stroke("contour", cs.part, np.asarray(pl, dtype=float), camera)
+                 for cs in sets for pl in cs.polylines3d if len(pl) >= 2)
+
+
+def steps_text(view_plan: ViewPlan) -> str:
+    """One line per step: ``12. [primitive] lens: <sentence>  (3 new guides, 1 reused)``."""
+    lines = []
+    for step in view_plan.steps:
+        new = sum(1 for g in step.guides if g.status == "new")
+        counts = _t("text.counts", new=new, reused=len(step.guides) - new)
+        kind = step.kind + (_raw("text.eyeball") if step.eyeball else "")
+        lines.append(_t("text.line", index=step.index, kind=kind,
+                        part=step.part if step.part is not None else _raw("text.no_part"),
+                        text=step.text, counts=counts))
+    return "\n".join(lines)

@@ -1,0 +1,453 @@
+"""Tests of the sequence stage (DESIGN.md §2.6, paper §5): order, guides, levels, lifetime.
+
+Facts are checked against their definitions with code that does not share the stage's
+helpers: projection by an explicit matrix product, the drawing order by re-simulating the
+rule, anchor guides against the plan.json ratio contract.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+
+import numpy as np
+import pytest
+import trimesh
+
+from h2s_print import sequence as seq
+from h2s_print.candidates import Anchor, Candidate
+from h2s_print.config import PaperSpec, SequenceSettings, SolverSettings, ViewSpec, load_tutorial
+from h2s_print.plan import Plan, build_plan, view_json
+from h2s_print.select import Selection
+from h2s_print.types import Model, Part, Primitive, readonly
+
+from conftest import CONFIGS
+
+EXAMPLES = sorted(p.stem for p in CONFIGS.glob("*.yaml") if p.stem != "book")
+GUIDED = ("novice", "apprentice", "master")
+
+
+# ----------------------------------------------------------------------------- fixtures
+
+
+@pytest.fixture(scope="module")
+def examples():
+    """name -> (tutorial, plan, {(view name, level): ViewPlan}); built once per module."""
+    out = {}
+    for name in EXAMPLES:
+        t = load_tutorial(CONFIGS / f"{name}.yaml")
+        plan = build_plan(t.model, t.solver)
+        views = {}
+        for view in t.views:
+            levels = tuple(dict.fromkeys(tuple(t.levels) + GUIDED + ("basic",)))
+            for vp in seq.sequence_views(plan, view, levels, t.paper, t.sequence):
+                views[(view.name, vp.level)] = vp
+        out[name] = (t, plan, views)
+    return out
+
+
+def _all_views(examples):
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            yield name, t, plan, vp
+
+
+def _project(matrix, p):
+    """Independent projection: (x, y, z, 1) -> homogeneous mm, dehomogenised."""
+    h = np.asarray(matrix, dtype=float) @ np.array([p[0], p[1], p[2], 1.0])
+    return h[:2] / h[2]
+
+
+def _parents(plan) -> dict[str, set[str]]:
+    by_id = {c.id: c for c in plan.candidates}
+    return {part: {by_id[pid].part for pid in c.parents} for part, c in plan.chosen().items()}
+
+
+def _primitive_parts(vp) -> list[str]:
+    return [s.part for s in vp.steps if s.kind in ("primitive", "basic")]
+
+
+# ----------------------------------------------------------------------------- a tiny hand-made plan
+
+
+def _box_part(name, lo, hi) -> Part:
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    mesh = trimesh.creation.box(extents=hi - lo)
+    return Part(name, readonly(np.asarray(mesh.vertices) + (lo + hi) / 2, float),
+                readonly(mesh.faces, np.int64))
+
+
+def _tiny_plan(boxes: dict, anchors: dict | None = None) -> Plan:
+    """Cuboid parts with the given boxes; ``anchors[part] = (parent, [Anchor...])`` makes that
+    part's selected candidate hang off ``parent`` (its box is then the given box too)."""
+    anchors = anchors or {}
+    parts = tuple(_box_part(n, *b) for n, b in sorted(boxes.items()))
+    prims = tuple(Primitive(n, "cuboid", None, tuple(map(tuple, b)), 0.0) for n, b in sorted(boxes.items()))
+    cands, chosen = [], []
+    for n, b in sorted(boxes.items()):
+        box = tuple(tuple(float(x) for x in v) for v in b)
+        orig = Candidate(n, n, box, True, (), 0, (), (0, 1, 2), 6.0, 0.0, "cuboid", None)
+        cands.append(orig)
+        if n in anchors:
+            parent, alist = anchors[n]
+            c = Candidate(f"{n}<{parent}#1", n, box, False, (parent,), 1, tuple(alist),
+                          tuple(a for a in range(3) if not any(x.axis == a for x in alist)),
+                          1.0, 0.0, "cuboid", None)
+            cands.append(c)
+            chosen.append(c.id)
+        else:
+            chosen.append(n)
+    sel = Selection(tuple(sorted(chosen)), 0.0, "optimal", 0.0, 0.0, "quadratic", True,
+                    len(cands), 0)
+    model = Model("tiny", "mm", parts)
+    return Plan(model, prims, (), tuple(cands), sel, SolverSettings())
+
+
+PAPER = PaperSpec("A4", "landscape", 12.0)
+FRONT = ViewSpec("front", azimuth_deg=20.0, elevation_deg=8.0, distance=3.0, lens_mm=50.0,
+                 perspective="two-point")
+
+
+# ----------------------------------------------------------------------------- projection
+
+
+def test_every_mm_coordinate_is_the_projection_of_its_3d_point(examples):
+    worst = 0.0
+    for name, t, plan, vp in _all_views(examples):
+        m = vp.camera.projection_mm
+        for step in vp.steps:
+            for g in step.guides:
+                for p3, pmm in ((g.from3d, g.from_mm), (g.to3d, g.to_mm)):
+                    worst = max(worst, float(np.abs(_project(m, p3) - pmm).max()))
+            for s in step.strokes:
+                for p3, pmm in zip(s.points3d, s.points_mm):
+                    worst = max(worst, float(np.abs(_project(m, p3) - pmm).max()))
+    assert worst <= 0.05  # DESIGN.md §4: within 0.05 mm on paper (in fact ~1e-12)
+
+
+def test_view_camera_is_the_camera_of_every_level(examples):
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            cam = seq.view_camera(plan, view, t.paper)
+            for level in GUIDED + ("basic",):
+                assert np.array_equal(cam.projection_mm, views[(view.name, level)].camera.projection_mm)
+
+
+def test_whole_drawing_and_guides_inside_the_margins(examples):
+    for name, t, plan, vp in _all_views(examples):
+        m = t.paper.margin_mm
+        w, h = t.paper.width_mm, t.paper.height_mm
+        pts = [p for s in vp.steps for st in s.strokes for p in st.points_mm]
+        pts += [p for s in vp.steps for g in s.guides for p in (g.from_mm, g.to_mm)]
+        a = np.array(pts)
+        assert len(a), (name, vp.name, vp.level)
+        eps = 1e-6
+        assert a[:, 0].min() >= m - eps and a[:, 0].max() <= w - m + eps, (name, vp.name, vp.level)
+        assert a[:, 1].min() >= m - eps and a[:, 1].max() <= h - m + eps, (name, vp.name, vp.level)
+
+
+def test_final_strokes_are_contours_inside_the_margins(examples):
+    for name, (t, plan, views) in examples.items():
+        vp = views[(t.views[0].name, "novice")]
+        final = seq.final_strokes(plan, vp.camera, t.sequence)
+        assert final and all(s.kind == "contour" for s in final)
+        a = np.array([p for s in final for p in s.points_mm])
+        m = t.paper.margin_mm
+        assert a.min() >= m - 1e-6 and a[:, 0].max() <= t.paper.width_mm - m + 1e-6
+        basic = seq.final_strokes(plan, vp.camera, t.sequence, level="basic")
+        assert basic and all(s.kind == "contour" for s in basic)
+
+
+# ----------------------------------------------------------------------------- order
+
+
+def test_parents_precede_children(examples):
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level == "basic":
+            continue
+        parents = _parents(plan)
+        order = _primitive_parts(vp)
+        for i, part in enumerate(order):
+            assert parents[part] <= set(order[:i]), (name, vp.name, part)
+
+
+def test_order_ties_are_broken_by_distance_to_the_viewer(examples):
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        chosen = plan.chosen()
+        parents = _parents(plan)
+        cam = np.array(vp.camera.position)
+        dist = {p: float(np.linalg.norm((np.array(c.box[0]) + np.array(c.box[1])) / 2 - cam))
+                for p, c in chosen.items()}
+        order = _primitive_parts(vp)
+        # The first primitive is the biggest root (documented); later each is the closest of
+        # the parts whose parents are all drawn.
+        roots = [p for p in order if not parents[p]]
+        vol = {p: float(np.prod(np.subtract(chosen[p].box[1], chosen[p].box[0]))) for p in order}
+        assert vol[order[0]] == max(vol[p] for p in roots)
+        for i in range(1, len(order)):
+            ready = [p for p in order[i:] if parents[p] <= set(order[:i])]
+            assert dist[order[i]] <= min(dist[p] for p in ready), (name, vp.name, order[i])
+
+
+def test_contour_steps_follow_the_drawing_order(examples):
+    for name, t, plan, vp in _all_views(examples):
+        prim = _primitive_parts(vp)
+        cont = [s.part for s in vp.steps if s.kind == "contour"]
+        assert cont == [p for p in prim if p in set(cont)]
+        kinds = [s.kind for s in vp.steps]
+        # primitives, then ellipses, then contours
+        assert kinds == sorted(kinds, key=lambda k: ("primitive", "basic", "ellipse", "contour").index(k))
+        assert [s.index for s in vp.steps] == list(range(1, len(vp.steps) + 1))
+
+
+# ----------------------------------------------------------------------------- guides
+
+
+def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        by_id = {c.id: c for c in plan.candidates}
+        chosen = plan.chosen()
+        lo, hi = plan.model.bounds
+        tol = 1e-7 * float(np.linalg.norm(np.subtract(hi, lo)))
+        for step in vp.steps:
+            if step.kind != "primitive" or step.eyeball:
+                continue
+            cand = chosen[step.part]
+            for a in cand.anchors:
+                if a.face_normal == a.axis:
+                    continue
+                pbox = by_id[a.parent].box
+                e = 0 if a.end == "lo" else 1
+                value = pbox[0][a.axis] + a.ratio * (pbox[1][a.axis] - pbox[0][a.axis])
+                assert cand.box[e][a.axis] == value  # the plan.json contract itself
+                hits = []
+                for g in step.guides:
+                    if g.role != "guide":
+                        continue
+                    p, q = np.array(g.from3d), np.array(g.to3d)
+                    if abs(p[a.axis] - value) > tol or abs(q[a.axis] - value) > tol:
+                        continue
+                    for n in range(3):
+                        if n == a.axis or abs(p[n] - q[n]) > tol:
+                            continue
+                        sides = {"lo": pbox[0][n], "hi": pbox[1][n]}
+                        allowed = [sides[a.face_side]] if a.face_side else list(sides.values())
+                        if a.face_side and n != a.face_normal:
+                            continue
+                        if any(abs(p[n] - c) <= tol for c in allowed):
+                            o = 3 - n - a.axis  # spans the parent's face across
+                            if abs(min(p[o], q[o]) - pbox[0][o]) <= tol and abs(max(p[o], q[o]) - pbox[1][o]) <= tol:
+                                hits.append(g.id)
+                assert hits, (name, vp.name, step.part, a)
+                checked += 1
+    assert checked >= 20  # the examples anchor dozens of interval ends
+
+
+def test_levels_show_nested_guides_with_the_same_steps(examples):
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            nov, app, mas = (views[(view.name, lv)] for lv in GUIDED)
+            assert len(nov.steps) == len(app.steps) == len(mas.steps)
+            for a, b, c in zip(nov.steps, app.steps, mas.steps):
+                assert (a.part, a.kind, a.text, a.eyeball) == (b.part, b.kind, b.text, b.eyeball) \
+                    == (c.part, c.kind, c.text, c.eyeball)
+                assert a.strokes == b.strokes == c.strokes
+                ids_a, ids_b = {g.id for g in a.guides}, {g.id for g in b.guides}
+                assert ids_b <= ids_a
+                assert not c.guides and not c.alive
+                assert all(g.role in ("guide", "vanishing") for g in b.guides)
+                # a guide keeps its id and geometry at every level
+                geo = {g.id: (g.from3d, g.to3d) for g in a.guides}
+                assert all(geo[g.id] == (g.from3d, g.to3d) for g in b.guides)
+            assert sum(len(s.guides) for s in app.steps) < sum(len(s.guides) for s in nov.steps)
+
+
+def test_basic_has_no_guides_and_draws_the_original_boxes_largest_first(examples):
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            vp = views[(view.name, "basic")]
+            assert all(not s.guides and not s.alive for s in vp.steps)
+            prims = [s for s in vp.steps if s.kind == "basic"]
+            assert prims and all(s.eyeball for s in prims)
+            vols = []
+            for s in prims:
+                box = np.array(plan.primitive(s.part).box)
+                vols.append(float(np.prod(box[1] - box[0])))
+                pts = np.array([p for st in s.strokes for p in st.points3d])
+                span = box[1] - box[0]
+                tol = 1e-9 * float(np.linalg.norm(span)) + 1e-12
+                # every scaffold point lies in the fitted (unadjusted) box and the scaffold spans it
+                assert (pts >= box[0] - tol).all() and (pts <= box[1] + tol).all(), s.part
+                ptype = plan.primitive(s.part).type
+                for ax in range(3):
+                    if ptype == "plane" and ax == plan.primitive(s.part).axis:
+                        continue
+                    if ptype == "frustum" and ax != plan.primitive(s.part).axis:
+                        continue  # the wider end spans the box (up to the fit's rounding)
+                    assert abs(pts[:, ax].min() - box[0][ax]) <= tol and abs(pts[:, ax].max() - box[1][ax]) <= tol
+            assert vols == sorted(vols, reverse=True)
+            cont = [s.part for s in vp.steps if s.kind == "contour"]
+            assert cont == [p for p in (s.part for s in prims) if p in set(cont)]
+
+
+def test_guide_lifetime(examples):
+    seen_reuse = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level not in ("novice", "apprentice"):
+            continue
+        uses: dict[str, list[int]] = {}
+        for i, s in enumerate(vp.steps):
+            ids = [g.id for g in s.guides]
+            assert len(ids) == len(set(ids))  # merged within a step
+            for g in s.guides:
+                uses.setdefault(g.id, []).append(i)
+        for gid, steps in uses.items():
+            first, last = steps[0], steps[-1]
+            statuses = [g.status for i in steps for g in vp.steps[i].guides if g.id == gid]
+            assert statuses[0] == "new" and all(x == "reused" for x in statuses[1:])
+            seen_reuse += len(statuses) - 1
+            for i, s in enumerate(vp.steps):
+                assert (gid in s.alive) == (first <= i <= last), (name, gid, i)
+        assert all(set(s.alive) <= set(uses) for s in vp.steps)
+    assert seen_reuse > 0  # shared constructions (e.g. the camera body's quarters) are reused
+
+
+def test_equivalent_guides_share_one_id_and_geometry(examples):
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        lo, hi = plan.model.bounds
+        tol = 1e-6 * float(np.linalg.norm(np.subtract(hi, lo)))
+        geo = {}
+        for s in vp.steps:
+            for g in s.guides:
+                seg = (np.array(g.from3d), np.array(g.to3d))
+                if g.id in geo:
+                    assert np.array_equal(geo[g.id][0], seg[0]) and np.array_equal(geo[g.id][1], seg[1])
+                geo[g.id] = seg
+        items = list(geo.items())
+        for i, (a, (p, q)) in enumerate(items):  # distinct ids are distinct segments
+            for b, (r, s) in items[i + 1:]:
+                same = (np.abs(p - r).max() <= tol and np.abs(q - s).max() <= tol) or \
+                       (np.abs(p - s).max() <= tol and np.abs(q - r).max() <= tol)
+                assert not same, (name, a, b)
+
+
+def test_huge_eyeball_threshold_removes_every_guide(examples):
+    t, plan, _ = examples["camera"]
+    settings = SequenceSettings(eyeball_mm2=1e12)
+    vp = seq.sequence_view(plan, t.views[0], "novice", t.paper, settings)
+    chosen = plan.chosen()
+    anchored = [s for s in vp.steps if s.kind == "primitive" and chosen[s.part].anchors and s.index > 1]
+    assert anchored and all(s.eyeball for s in anchored)
+    assert all(not s.guides for s in vp.steps)
+    assert all("about" in s.text or "in line" in s.text for s in anchored)
+    # and the threshold 0 eyeballs nothing: area / k < 0 never holds
+    vp0 = seq.sequence_view(plan, t.views[0], "novice", t.paper, SequenceSettings(eyeball_mm2=0.0))
+    assert not any(s.eyeball for s in vp0.steps)
+    assert all(s.guides for s in vp0.steps if s.kind == "primitive" and s.index > 1
+               and any(a.face_normal != a.axis for a in chosen[s.part].anchors))
+
+
+# ----------------------------------------------------------------------------- left out, scaffold
+
+
+def test_hidden_part_that_anchors_nothing_is_left_out():
+    # A 200 x 100 x 100 box in front; a 20 x 20 x 20 box behind it, well inside its shadow.
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "small": ((-10, 150, 30), (10, 170, 50))}
+    plan = _tiny_plan(boxes)
+    final = seq.final_strokes(plan, seq.view_camera(plan, FRONT, PAPER), SequenceSettings())
+    assert {s.part for s in final} == {"big"}  # the small box is really hidden
+    vp = seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings())
+    assert all(s.part == "big" for s in vp.steps)
+    basic = seq.sequence_view(plan, FRONT, "basic", PAPER, SequenceSettings())
+    assert all(s.part == "big" for s in basic.steps)
+
+
+def test_hidden_part_that_anchors_a_visible_part_is_kept():
+    # A mast standing on the hidden small box, reaching above the big box: visible.
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "small": ((-10, 150, 30), (10, 170, 50)),
+             "mast": ((-5, 155, 50), (5, 165, 250))}
+    # mast bottom at the small box's top (ratio 1 of its z extent), on its front face (y lo)
+    anchor = Anchor(2, "lo", "small", 1.0, 1, 1, "lo")
+    plan = _tiny_plan(boxes, {"mast": ("small", [anchor])})
+    vp = seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings(eyeball_mm2=0.0))
+    order = _primitive_parts(vp)
+    assert order.index("small") < order.index("mast")
+    step = next(s for s in vp.steps if s.part == "mast" and s.kind == "primitive")
+    # the align guide: the small box's top edge on its front face, y = 150, z = 50
+    assert any(g.role == "guide" and g.from3d[1] == g.to3d[1] == 150.0 and g.from3d[2] == g.to3d[2] == 50.0
+               for g in step.guides)
+    # carried to the mast (y 155..165 is behind the face y = 150): a line along y at z = 50
+    assert any(g.role == "vanishing" and g.from3d[2] == g.to3d[2] == 50.0
+               and {g.from3d[1], g.to3d[1]} == {150.0, 155.0} for g in step.guides)
+
+
+def test_scaffold_marks_back_edges_hidden():
+    plan = _tiny_plan({"big": ((-100, 0, 0), (100, 100, 100))})
+    vp = seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings())
+    strokes = vp.steps[0].strokes
+    kinds = [s.kind for s in strokes]
+    # Seen from front-right and above: front, right and top faces are front-facing; their
+    # 4 + 4 + 4 edges share 3, so 9 visible edges and 12 - 9 = 3 hidden ones.
+    assert kinds.count("scaffold") == 9 and kinds.count("scaffold_hidden") == 3
+    hidden = [s for s in strokes if s.kind == "scaffold_hidden"]
+    # the hidden ones all meet at the back-left-bottom corner (-100, 100, 0)
+    assert all((-100.0, 100.0, 0.0) in s.points3d for s in hidden)
+
+
+def test_ellipse_steps_for_cylinders(examples):
+    t, plan, views = examples["camera"]
+    vp = views[(t.views[0].name, "novice")]
+    cyl = {p.part for p in plan.primitives if p.type == "cylinder"}
+    ell = [s for s in vp.steps if s.kind == "ellipse"]
+    assert {s.part for s in ell} == cyl & set(_primitive_parts(vp))
+    for s in ell:
+        assert len(s.strokes) == 2 and all(st.kind == "ellipse" for st in s.strokes)
+        box = plan.chosen()[s.part].box
+        axis = plan.primitive(s.part).axis
+        for st in s.strokes:
+            pts = np.array(st.points3d)
+            assert np.allclose(pts[0], pts[-1])  # closed
+            assert np.ptp(pts[:, axis]) == 0.0 and pts[0, axis] in (box[0][axis], box[1][axis])
+        if not s.eyeball:
+            assert len(s.guides) == 8  # 2 diagonals + 2 mid lines per end face
+
+
+# ----------------------------------------------------------------------------- text, determinism
+
+
+def test_steps_text_one_line_per_step(examples):
+    t, plan, views = examples["camera"]
+    vp = views[(t.views[0].name, "novice")]
+    text = seq.steps_text(vp)
+    lines = text.splitlines()
+    assert len(lines) == len(vp.steps)
+    pat = re.compile(r"^(\d+)\. \[[a-z]+(, by eye)?\] [^:]+: .+  \((\d+) new guides, (\d+) reused\)$")
+    for line, step in zip(lines, vp.steps):
+        m = pat.match(line)
+        assert m, line
+        assert int(m.group(1)) == step.index
+        assert int(m.group(3)) == sum(g.status == "new" for g in step.guides)
+    assert vp.steps[0].text.startswith("Start with the")
+    assert "green" in vp.steps[0].text and "vanishing" in vp.steps[0].text
+
+
+def test_same_input_same_output(examples):
+    t, plan, views = examples["camera"]
+    view = t.views[-1]
+    first = json.dumps(view_json(views[(view.name, "novice")]), sort_keys=True)
+    seq._LAST.clear()  # force a fresh computation
+    again = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+    assert json.dumps(view_json(again), sort_keys=True) == first
+
+
+def test_unknown_level_is_refused(examples):
+    t, plan, _ = examples["camera"]
+    with pytest.raises(ValueError, match="level"):
+        seq.sequence_view(plan, t.views[0], "expert", t.paper, t.sequence)
