@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import io
 import logging
-import os
-import tempfile
 from pathlib import Path
 from typing import Sequence
 from xml.sax.saxutils import escape
 
 from .errors import RenderError
+from .files import write_bytes_atomic
 from .layout import COLOURS, PT_MM, Circle, Page, Polyline, Rect, Text
 
 log = logging.getLogger(__name__)
@@ -134,25 +133,8 @@ def render_pdf(pages: Sequence[Page], path: Path) -> None:
     """
     path = Path(path)
     data = pdf_bytes(pages)
-    tmp_name = None
-    try:
-        with tempfile.NamedTemporaryFile(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp",
-                                         delete=False) as tmp:
-            tmp_name = tmp.name
-            tmp.write(data)
-            tmp.flush()
-            os.fsync(tmp.fileno())
-        os.replace(tmp_name, path)
-        tmp_name = None
-    except OSError as exc:
-        raise RenderError(f"{path}: cannot write PDF: {exc.strerror or exc}") from None
-    finally:
-        if tmp_name is not None:
-            try:
-                os.unlink(tmp_name)
-            except OSError:
-                pass
-    log.info("wrote %s (%d pages, %d bytes)", path, len(pages), len(data))
+    write_bytes_atomic(path, data)
+    log.debug("%s: %d pages, %d bytes", path, len(pages), len(data))
 
 
 # ----------------------------------------------------------------------------- SVG / PNG

@@ -156,20 +156,30 @@ def test_same_pages_give_identical_bytes(novice):
     assert R.pdf_bytes(again) == data
 
 
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 def test_render_pdf_writes_atomically(tmp_path, novice):
     _, pages, data = novice
     out = tmp_path / "camera.pdf"
     R.render_pdf(pages, out)
     assert out.read_bytes() == data
     assert sorted(os.listdir(tmp_path)) == ["camera.pdf"]  # no temp file left behind
-    missing = tmp_path / "no" / "such" / "dir" / "camera.pdf"
-    with pytest.raises(RenderError, match=re.escape(str(missing))):
-        R.render_pdf(pages, missing)
+    nested = tmp_path / "new" / "dir" / "camera.pdf"  # missing folders are created
+    R.render_pdf(pages, nested)
+    assert nested.read_bytes() == data
+    assert oct(nested.stat().st_mode & 0o777) == oct(0o666 & ~_umask())  # not mkstemp's 0600
+    under_file = tmp_path / "camera.pdf" / "x.pdf"  # a file where a folder should be
+    with pytest.raises(RenderError, match=re.escape(str(tmp_path / "camera.pdf"))):
+        R.render_pdf(pages, under_file)
     blocker = tmp_path / "taken"
     blocker.mkdir()
     with pytest.raises(RenderError, match="taken"):
         R.render_pdf(pages, blocker)  # a folder where the file should go
-    assert sorted(os.listdir(tmp_path)) == ["camera.pdf", "taken"]
+    assert sorted(os.listdir(tmp_path)) == ["camera.pdf", "new", "taken"]
     with pytest.raises(RenderError):
         R.pdf_bytes([])
 
