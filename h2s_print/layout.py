@@ -88,7 +88,10 @@ class LineStyle:
 #: Line styles by meaning (legend keys of ``templates/pages.yaml``).
 STYLES: dict[str, LineStyle] = {
     "earlier": LineStyle("grey", 0.3),
+    "earlier_hidden": LineStyle("lightgrey", 0.2, (1.0, 1.0)),
+    "ink": LineStyle("black", 0.45),
     "new": LineStyle("orange", 0.7),
+    "new_hidden": LineStyle("orange", 0.3, (1.0, 1.0)),
     "guide_new": LineStyle("orange", 0.35, (2.4, 1.2)),
     "guide_reused": LineStyle("blue", 0.35, (2.4, 0.9, 0.5, 0.9)),
     "guide_idle": LineStyle("blue", 0.2, (0.4, 1.0)),
@@ -568,13 +571,17 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item
     step = plan.steps[i]
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
     items += _vanishing_lines(view, plan, step.strokes)
+    # Earlier lines: the scaffold grey (its hidden edges dotted, fainter), contours already
+    # drawn in ink, so the object emerges from its scaffold as in the paper's figures.
     for earlier in plan.steps[:i]:
         for s in earlier.strokes:
-            items += view.lines(s.points_mm, STYLES["earlier"], "stroke_earlier")
+            key = {"contour": "ink", "scaffold_hidden": "earlier_hidden"}.get(s.kind, "earlier")
+            items += view.lines(s.points_mm, STYLES[key], f"stroke_{key}")
     for g, key in _step_guides(plan, i):
         items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
     for s in step.strokes:
-        items += view.lines(s.points_mm, STYLES["new"], "stroke_new")
+        key = "new_hidden" if s.kind == "scaffold_hidden" else "new"
+        items += view.lines(s.points_mm, STYLES[key], "stroke_new")
     return items
 
 
@@ -856,7 +863,8 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
     level = _level_name(plan.level)
     size = 11.0 if per == 1 else 10.0
     pages = []
-    legend_keys = ["earlier", "new", "guide_new", "guide_reused", "guide_idle", "vanishing", "corner"]
+    legend_keys = ["earlier", "earlier_hidden", "ink", "new", "guide_new", "guide_reused",
+                   "guide_idle", "vanishing", "corner"]
     margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
     for first in range(0, n, per):
         idx = list(range(first, min(n, first + per)))

@@ -71,16 +71,13 @@ def steps_text(result: TutorialResult) -> str:
 
 
 def _workbook_pages(result: TutorialResult, index: int):
-    from .layout import lay_out_sheet, lay_out_workbook
+    from .layout import lay_out_workbook
 
     vp = result.views[index]
     tutorial = result.tutorial
-    label = vp.name
-    pages = lay_out_workbook(tutorial.title, vp, tutorial.paper, view_label=label,
-                             final=result.finals[index])
-    sheet = lay_out_sheet(tutorial.title, vp, margin_mm=tutorial.paper.margin_mm,
-                          view_label=label)
-    return pages + (sheet,)
+    # cover, primer, steps, finished drawing and the calibrated sheet
+    return lay_out_workbook(tutorial.title, vp, tutorial.paper, view_label=vp.name,
+                            final=result.finals[index])
 
 
 def build(config_path: Path, out_dir: Path) -> list[Path]:

@@ -245,7 +245,8 @@ def test_guide_lifetime_colours_and_greyscale_styles():
     assert {it.colour for it in polylines(by_step[2], "guide_new")} == {"orange"}
     assert {it.colour for it in polylines(by_step[3])if it.role.startswith("guide")} == {"blue"}
     # greyscale: every line meaning differs by dash pattern or width
-    keys = ["earlier", "new", "guide_new", "guide_reused", "guide_idle", "vanishing"]
+    keys = ["earlier", "earlier_hidden", "ink", "new", "new_hidden", "guide_new", "guide_reused",
+            "guide_idle", "vanishing"]
     looks = {(L.STYLES[k].width_mm, L.STYLES[k].dash_mm) for k in keys}
     assert len(looks) == len(keys)
     # idle guide g_mid at step 3 is drawn where step 2 put it
