@@ -98,14 +98,14 @@ def build(config_path: Path, out_dir: Path) -> list[Path]:
         return written
 
     assert isinstance(cfg, BookConfig)
-    from .layout import lay_out_book
+    from .layout import OUTLINE_SEP, lay_out_book
 
     folder = out_dir / cfg.name
     results = [plan_tutorial(t) for t in cfg.tutorials]
     workbooks = []
     for result in results:
         for i, vp in enumerate(result.views):
-            label = f"{result.tutorial.title} / {vp.name} / {vp.level}"
+            label = OUTLINE_SEP.join((result.tutorial.title, vp.name, vp.level))
             workbooks.append((label, _workbook_pages(result, i)))
     pages = lay_out_book(cfg.title, workbooks)
     path = folder / f"{cfg.name}.pdf"
