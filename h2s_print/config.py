@@ -76,12 +76,15 @@ class ModelSpec:
         units: ``mm``, ``cm``, ``m`` or ``in``; ``None`` means the file's own (glTF extras
             ``units`` when present, else ``m`` for glTF by its specification and ``mm`` otherwise).
         parts: regrouping of parts.
+        source: the path as the config wrote it (relative to the config), for plan.json, so
+            the plan does not depend on where the checkout lives; ``None``: ``str(path)``.
     """
 
     path: Path
     up: str | None = None
     units: str | None = None
     parts: PartsSpec = field(default_factory=PartsSpec)
+    source: str | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -416,7 +419,7 @@ def _tutorial(path: Path, data: Any) -> TutorialConfig:
 
 def _model(node: _Node, base: Path) -> ModelSpec:
     if isinstance(node.value, str):  # shorthand: model: path/to/file.glb
-        return ModelSpec(path=(base / node.text()).resolve())
+        return ModelSpec(path=(base / node.text()).resolve(), source=node.value)
     node.mapping(("path", "up", "units", "parts"), required=("path",))
     rel = node.child("path").text()
     return ModelSpec(
@@ -424,6 +427,7 @@ def _model(node: _Node, base: Path) -> ModelSpec:
         up=node.get("up", lambda n: n.choice(("x", "y", "z")), None),
         units=node.get("units", lambda n: n.choice(UNITS), None),
         parts=node.get("parts", _parts, PartsSpec()),
+        source=rel,
     )
 
 
@@ -432,6 +436,9 @@ def _parts(node: _Node) -> PartsSpec:
     merge: tuple[tuple[str, tuple[str, ...]], ...] = ()
     if node.has("merge"):
         m = node.child("merge").mapping(tuple(node.value["merge"] or ()))
+        for k in m.value:
+            if not re.fullmatch(_NAME, k):
+                raise m.child(k).fail("expected a part name of letters, digits, '-', '_' or '.'")
         merge = tuple((k, m.child(k).text_list()) for k in m.value)
     rename: tuple[tuple[str, str], ...] = ()
     if node.has("rename"):

@@ -120,7 +120,7 @@ def load_model(spec: ModelSpec) -> Model:
     parts = _small_parts(parts, spec.parts, raw.where, notes)
     for line in notes:
         log.info("%s: %s", raw.where, line)
-    return Model(source=str(spec.path), units=units,
+    return Model(source=spec.source or str(spec.path), units=units,
                  parts=tuple(sorted(parts, key=lambda p: p.name)), notes=tuple(notes))
 
 

@@ -47,6 +47,7 @@ def test_good_config_values(tmp_path):
     assert cfg.name == "camera" and cfg.title == "Digital SLR camera"
     # paths are relative to the config file, not the working directory
     assert cfg.model.path == (tmp_path / "models" / "camera.glb").resolve()
+    assert cfg.model.source == "models/camera.glb"  # as written: plan.json is checkout-independent
     assert cfg.model.up == "z" and cfg.model.units == "mm"
     assert cfg.model.parts.merge == (("body", ("body_top", "body_bottom")),)
     assert cfg.model.parts.drop == ("screw_*",)
@@ -101,6 +102,8 @@ def test_paper_sizes(size, orientation, width, height):
         ("distance: 3.0", "distance: 0.5", "camera.yaml: views[0].distance: must be > 1"),
         ("title: Digital SLR camera", "titel: x", "camera.yaml: titel: unknown key"),
         ("  up: z", "  up: w", "camera.yaml: model.up: expected one of x, y, z, got 'w'"),
+        ("merge: {body:", "merge: {lens<body#1:",
+         "camera.yaml: model.parts.merge.lens<body#1: expected a part name"),
     ],
 )
 def test_errors_name_file_and_key_path(tmp_path, old, new, message):

@@ -106,7 +106,7 @@ def test_config_loads_and_points_at_its_model(name):
     assert {v.perspective for v in cfg.views} == {"two-point", "three-point"}
     assert (cfg.paper.size, cfg.paper.orientation, cfg.paper.margin_mm) == ("A4", "landscape", 12)
     assert (cfg.solver.formulation, cfg.solver.time_limit_s, cfg.solver.max_change) == (
-        "quadratic", 60, 0.10)
+        "linear", 60, 0.10)  # linear is the default formulation
 
 
 def test_book_lists_the_four_tutorials():

@@ -43,7 +43,7 @@ def _shared_config(folder: Path, models: Path, name: str) -> Path:
            # novice (every guide) and basic (the control tutorial: no guides, no anchoring).
            "levels": ["novice", "basic"],
            "paper": {"size": "A4", "orientation": "landscape", "margin_mm": 12},
-           "solver": {"formulation": "quadratic", "time_limit_s": 60, "max_change": 0.10}}
+           "solver": {"time_limit_s": 60, "max_change": 0.10}}
     path = folder / f"{name}.yaml"
     path.write_text(yaml.safe_dump(doc, sort_keys=False))
     return path
