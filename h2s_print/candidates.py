@@ -19,12 +19,20 @@ of the catalogue ratios of ``h2s_print.ratios`` (0, ¼, ⅓, ½, ⅔, ¾, 1 and 
 
 * **both ends anchored** (to the same parent or to two different parents, e.g. a shelf between
   two side panels): the axis is fully guided;
-* **one end anchored, length kept**: the free end lies at the anchored end ± the input length;
-  the position is guided, the length is estimated by eye;
-* **unguided**: the input interval is kept (listed in ``unguided_axes``).
+* **one end anchored, length kept**: the free end lies at the anchored end ± the input length
+  (a cylinder's: ± the length its round cross-section needs, below); the position is guided,
+  the length is estimated by eye;
+* **unguided**: no end anchored (listed in ``unguided_axes``): the input interval, or the input
+  interval moved toward a related parent's centre line (re-centred, below).
 
 An axis of zero length (a plane's normal) stays of zero length: both ends are anchored at the
 same value (two anchors with the same ratio), which guides it fully.
+
+Cylinders stay round: a cylinder candidate's two extents across its axis keep the input's
+proportion (square from the fit: equal) within :data:`ROUND` (1 %).  When the combined axes do
+not, the axis with more anchored ends decides and the other takes the matching length, kept at
+its anchored end or about its centre when unguided; two fully anchored axes that disagree make
+no candidate.  (Before this rule the train's boiler came out 43.7 by 47.6 mm: an oval.)
 
 Where anchors come from
 -----------------------
@@ -37,18 +45,35 @@ transfer only within a plane).  For a coplanar relation normal to axis ``n``:
   the shared plane at 0 or 1, or extruded/divided: "grip extended by ½ the depth of the body"),
   constructed on the larger parent face that contains ``n`` (``face_side`` left to the view).
 
-Bisector and coaxial relations do not create anchors by themselves; they are *restored* (paper
-stage ii): when a candidate ``C`` of part ``i`` breaks a preserved relation with part ``j``, a
-candidate of ``j`` is made from ``j``'s input box, re-aligned to ``C`` (parent ``C``): for
-coplanar, its face is anchored to ``C``'s face (ratio 0 or 1) and the opposite face either moves
-with it (length kept) or stays; for bisector/coaxial, the relation's axes are anchored
-symmetrically at ``(r, 1 - r)`` of ``C`` (so the mid-planes coincide) or, failing that, simply
-centred on ``C`` (still unguided, but drawn after ``C``).
+Bisector and coaxial relations do not create anchors by themselves.  They shape candidates in
+two ways:
+
+* **re-centring** (stage i): a child hanging off an *adjusted* parent candidate would break a
+  preserved bisector or coaxial relation with it on an axis left at its input interval; so on
+  those axes the child may also take its input interval moved toward the parent's mid-plane
+  (onto it, or as far as ``settings.max_change`` allows: the relation's tolerance may cover
+  the rest), still unguided, and only together with anchors off that same parent;
+* **restoring** (paper stage ii): when a candidate ``C`` of part ``i`` breaks a preserved
+  relation with part ``j``, candidates of ``j`` are made from ``j``'s input box, re-aligned to
+  ``C`` (parent ``C``): for coplanar, its face is anchored to ``C``'s face (ratio 0 or 1) and
+  the opposite face either moves with it (length kept) or stays; for bisector/coaxial, the
+  relation's axes are anchored symmetrically at ``(r, 1 - r)`` of ``C`` (so the mid-planes
+  coincide) or, failing that, re-centred on ``C`` as above.  Each other axis keeps its input
+  interval or, when ``j`` is coplanar with ``i``, takes one of the best anchors off ``C`` (the
+  camera's shutter button, re-centred on a moved grip, still sits flush on the grip's top).
+  The ``RESTORED_PER_RELATION`` cheapest are kept.
 
 Levels (paper stage iii): level 1 anchors off the input primitives ("originals"); level ``k``
-anchors off the best ``PARENTS_PER_PART`` candidates per part of level ``k - 1`` (pruning), and
-keeps only candidates that use at least one of them.  ``settings.depth`` levels are made.
-``Candidate.depth`` is 0 for originals and ``1 + max(parent depths)`` otherwise.
+anchors off the candidates of level ``k - 1`` and keeps only candidates that use at least one of
+them.  ``settings.depth`` levels are made.  ``Candidate.depth`` is 0 for originals and
+``1 + max(parent depths)`` otherwise.
+
+Pruning keeps *diverse* candidates, not only the cheapest: per part and level the
+``CANDIDATES_PER_PART`` kept, the ``RESTORE_PER_PART`` restored and the order in which the next
+level's parents are offered are taken round-robin over the candidates' sets of ancestor parts
+(the best of each set first).  A child hangs off the first ``PARENTS_PER_PART`` candidates of
+a parent part that do not descend from the child itself.  Measured on the camera: the 16
+cheapest prisms all hung off the flash, so the flash could hang off none of them.
 
 A candidate that could never be selected is dropped: one whose ancestors include two candidates
 of one part or a candidate of its own part, or whose box breaks a preserved relation with an
@@ -63,9 +88,13 @@ largest extent).  Per axis: fully guided ``|Δlength|/L + |Δmidpoint|/L``; one 
 ``|Δmidpoint|`` exceeds ``settings.max_change × L`` on any axis are discarded.
 
 ``cost_difficulty`` (E_e) = ``settings.guide_cost × Σ_faces lines × A_ref / A_face``: anchors
-on the same parent, axis and construction face share construction lines, counted once
-(``ratios.distinct_lines``); ``A_ref`` is the largest face area of any input primitive box and
-``A_face`` the parent's construction face area (floored at 1e-6 ``A_ref``).
+on the same parent candidate and construction face (``face_normal``, ``face_side``), along
+either of the face's two axes, share construction lines, counted once
+(``ratios.distinct_face_lines``: an anchor at ½ along x and one at ½ along y on the same face
+draw the face's two diagonals once, 4 lines, not 6); ``A_ref`` is the largest face area of any
+input primitive box and ``A_face`` the parent's construction face area (floored at 1e-6
+``A_ref``).  An end aligned with a flat parent's plane (``face_normal == axis``) is a line of
+its own.
 
 Ids
 ---
@@ -73,7 +102,8 @@ The original's id is its part name (``"body"``).  Others are
 ``"<part><<parent parts joined by '+'>#<k>"``, e.g. ``"grip<body#3"`` or ``"lens<body+grip#1"``,
 ``k`` counting from 1 per prefix in generation order, which is deterministic (parts sorted, each
 batch sorted by box and anchors).  The returned tuple is sorted by part, then original first,
-then generation order.
+then generation order.  An id that clashes with an existing one (a part named like a candidate,
+``"lens<body#1"``) is a :class:`SelectionError`, never a silent replacement.
 """
 
 from __future__ import annotations
@@ -86,7 +116,7 @@ from typing import Any, Iterable, Mapping, Sequence
 
 from .config import SolverSettings
 from .errors import SelectionError
-from .ratios import ALIGN_ONLY, CATALOGUE, distinct_lines, entry_for
+from .ratios import ALIGN_ONLY, CATALOGUE, distinct_face_lines, distinct_lines, entry_for
 from .types import Box, Primitive, Relation
 
 log = logging.getLogger(__name__)
@@ -106,6 +136,10 @@ CANDIDATES_PER_PART = 16
 PARENTS_PER_PART = 3
 #: Candidates per part whose broken relations are restored (stage ii), best first.
 RESTORE_PER_PART = 6
+#: A cylinder candidate's two cross extents keep the input's proportion within this fraction.
+ROUND = 0.01
+#: Restored candidates kept per broken relation (the cheapest).
+RESTORED_PER_RELATION = 4
 #: Symmetric ratio pairs used to restore bisector and coaxial relations.
 SYMMETRIC = ((-1.0, 2.0), (-0.5, 1.5), (0.0, 1.0), (0.25, 0.75), (1 / 3, 2 / 3))
 _EPS = 1e-9
@@ -220,7 +254,11 @@ def relation_axes(relation: Relation) -> tuple[int, ...]:
 
 def _relation_axis_holds(relation: Relation, axis: int, a_lo: float, a_hi: float,
                          b_lo: float, b_hi: float) -> bool:
-    """Does ``relation`` hold along ``axis`` between intervals of part a and part b?"""
+    """Does ``relation`` hold along ``axis`` between intervals of part a and part b?
+
+    Exact for coplanar and bisector.  For coaxial it is only *necessary* (one cross axis of the
+    two; :func:`relation_holds` measures both together): per-axis pruning may use it.
+    """
     if relation.type == "coplanar":
         if axis != relation.axis:
             return True
@@ -236,8 +274,16 @@ def relation_holds(relation: Relation, box_a: Box, box_b: Box) -> bool:
     """True when ``relation`` holds between boxes of its parts ``a`` and ``b``.
 
     coplanar: the two named faces' coordinates agree within ``relation.tolerance``; coaxial:
-    the box centres agree across the axis; bisector: the mid-planes along the axis agree.
+    the box centre lines along the axis are within the tolerance, Euclidean across the axis
+    (``hypot(du, dv) <= tolerance``, as ``relate`` found it); bisector: the mid-planes along
+    the axis agree.
     """
+    if relation.type == "coaxial":
+        u, v = relation_axes(relation)
+        du = _mid(box_a, u) - _mid(box_b, u)
+        dv = _mid(box_a, v) - _mid(box_b, v)
+        scale = max(1.0, *(abs(x) for box in (box_a, box_b) for x in (*box[0], *box[1])))
+        return math.hypot(du, dv) <= relation.tolerance + _EPS * scale
     return all(_relation_axis_holds(relation, ax, box_a[0][ax], box_a[1][ax],
                                     box_b[0][ax], box_b[1][ax]) for ax in relation_axes(relation))
 
@@ -359,6 +405,63 @@ def _within_change(orig: Box, axis: int, lo: float, hi: float, max_change: float
             and abs(0.5 * (lo + hi) - _mid(orig, axis)) <= limit)
 
 
+def _centred_on(orig: Box, axis: int, centre: float, max_change: float) -> tuple[float, float]:
+    """The input interval moved toward ``centre``: onto it, or as far as ``max_change`` allows.
+
+    Moving only part of the way still keeps a bisector or coaxial relation when the rest is
+    within its tolerance (``build`` checks), and a small part can follow a larger one that moved
+    by more than the small part's own change limit.
+    """
+    lo0, hi0 = orig[0][axis], orig[1][axis]
+    limit = max_change * _norm_length(orig, axis)
+    shift = min(max(centre - _mid(orig, axis), -limit), limit)
+    return lo0 + shift, hi0 + shift
+
+
+def _adjust_cost(orig: Box, box: Box, anchors: Sequence[Anchor]) -> float:
+    """E_d of ``box`` against the input box, given which ends are anchored."""
+    total = 0.0
+    for axis in range(3):
+        n_anchored = len({a.end for a in anchors if a.axis == axis})
+        total += _axis_cost(orig, axis, box[0][axis], box[1][axis], 2 - n_anchored)
+    return total
+
+
+def _round_cross(prim: Primitive, box: Box, anchors: Sequence[Anchor],
+                 max_change: float) -> Box | None:
+    """``box`` with a cylinder's cross-section kept round, or None when it cannot be.
+
+    The two extents across the axis must keep the input's proportion (square from the fit:
+    equal) within :data:`ROUND`.  When they do not, the axis with more anchored ends decides and
+    the other takes the matching length: kept at its anchored end, or about its centre when
+    unguided.  Equally anchored axes that disagree (both fully anchored) cannot be rounded.
+    """
+    orig = prim.box
+    u, v = (a for a in range(3) if a != prim.axis)
+    ou, ov = _extent(orig, u), _extent(orig, v)
+    lu, lv = _extent(box, u), _extent(box, v)
+    if ou <= 0 or ov <= 0 or abs(lu * ov - lv * ou) <= ROUND * max(lu * ov, lv * ou):
+        return box
+    ends = {ax: {a.end for a in anchors if a.axis == ax} for ax in (u, v)}
+    if len(ends[u]) == len(ends[v]):
+        return None
+    lead, follow = (u, v) if len(ends[u]) > len(ends[v]) else (v, u)
+    length = _extent(box, lead) * _extent(orig, follow) / _extent(orig, lead)
+    lo, hi = box[0][follow], box[1][follow]
+    if ends[follow] == {"lo"}:
+        hi = lo + length
+    elif ends[follow] == {"hi"}:
+        lo = hi - length
+    else:
+        mid = 0.5 * (lo + hi)
+        lo, hi = mid - 0.5 * length, mid + 0.5 * length
+    if not _within_change(orig, follow, lo, hi, max_change):
+        return None
+    new_lo, new_hi = list(box[0]), list(box[1])
+    new_lo[follow], new_hi[follow] = lo, hi
+    return (tuple(new_lo), tuple(new_hi))  # type: ignore[return-value]
+
+
 class _Generator:
     def __init__(self, ctx: _Context):
         self.ctx = ctx
@@ -366,9 +469,6 @@ class _Generator:
         self.w_a, self.w_d = s.weight_adjust, s.weight_difficulty
 
     # ------------------------------------------------------------------ bookkeeping
-    def parts_of(self, cid: str) -> dict[str, str]:
-        return self.ctx.ancestry[cid]
-
     def merged_ancestry(self, part: str, parent_ids: Iterable[str]) -> dict[str, str] | None:
         """part -> candidate id over all ancestors, or None when inconsistent."""
         merged: dict[str, str] = {}
@@ -398,28 +498,49 @@ class _Generator:
         self.ctx.ancestry[cand.id] = {prim.part: cand.id}
 
     def difficulty(self, anchors: Sequence[Anchor]) -> float:
-        groups: dict[tuple[str, int, int, str | None], list[float]] = {}
+        """E_e of a set of anchors (module docstring, *Costs*).
+
+        Anchors on one parent face share construction lines, across both of the face's axes
+        (its diagonals serve both): counted once with ``ratios.distinct_face_lines``.
+        """
+        groups: dict[tuple[str, int, str, int], list[tuple[float, bool]]] = {}
         for a in anchors:
-            groups.setdefault((a.parent, a.axis, a.face_normal, a.face_side), []).append(a.ratio)
+            if a.face_normal == a.axis:  # aligned with a flat parent's plane: a line of its own
+                key, across = (a.parent, a.face_normal, a.face_side or "", a.axis), False
+            else:
+                first = min(k for k in range(3) if k != a.face_normal)
+                key, across = (a.parent, a.face_normal, a.face_side or "", -1), a.axis != first
+            groups.setdefault(key, []).append((a.ratio, across))
         total = 0.0
-        for (pid, axis, normal, side), ratios in sorted(groups.items(), key=_group_key):
-            pbox = self.ctx.cands[pid].box
-            area = _face_area_of(pbox, axis, normal)
-            total += distinct_lines(ratios) * self.ctx.a_ref / max(area, 1e-6 * self.ctx.a_ref)
+        for key in sorted(groups):
+            pid, normal, _, axis = key
+            area = _face_area_of(self.ctx.cands[pid].box, axis, normal)
+            total += (distinct_face_lines(groups[key]) * self.ctx.a_ref
+                      / max(area, 1e-6 * self.ctx.a_ref))
         return self.ctx.settings.guide_cost * total
 
-    def build(self, part: str, box: Box, anchors: Sequence[Anchor], extra_parents: Sequence[str],
-              unguided: Sequence[int], cost_adjust: float) -> tuple[Candidate, dict] | None:
-        """A new (unnamed) candidate, or None when it can never be selected."""
+    def build(self, part: str, box: Box, anchors: Sequence[Anchor],
+              extra_parents: Sequence[str] = ()) -> tuple[Candidate, dict] | None:
+        """A new (unnamed) candidate, or None when it can never be selected.
+
+        A cylinder's cross-section is made round first (:func:`_round_cross`).  ``E_d`` and the
+        unguided axes follow from the box and the anchors (module docstring, *Costs*).
+        """
+        prim = self.ctx.prims[part]
+        if prim.type == "cylinder" and prim.axis is not None:
+            box = _round_cross(prim, box, anchors, self.ctx.settings.max_change)
+            if box is None:
+                return None
         parent_ids = sorted({a.parent for a in anchors} | set(extra_parents))
         ancestry = self.merged_ancestry(part, parent_ids)
         if ancestry is None or not self.keeps_relations(part, box, ancestry):
             return None
-        prim = self.ctx.prims[part]
         depth = 1 + max(self.ctx.cands[p].depth for p in parent_ids)
         cand = Candidate(id="", part=part, box=box, original=False, parents=tuple(parent_ids),
                          depth=depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
-                         unguided_axes=tuple(sorted(unguided)), cost_adjust=cost_adjust,
+                         unguided_axes=tuple(ax for ax in range(3)
+                                             if not any(a.axis == ax for a in anchors)),
+                         cost_adjust=_adjust_cost(prim.box, box, anchors),
                          cost_difficulty=self.difficulty(anchors), primitive_type=prim.type,
                          axis=prim.axis)
         return cand, ancestry
@@ -445,6 +566,11 @@ class _Generator:
             k = self.ctx.counters.get(prefix, 0) + 1
             self.ctx.counters[prefix] = k
             named = _replace_id(cand, f"{prefix}#{k}")
+            if named.id in self.ctx.cands:
+                raise SelectionError(
+                    f"candidate id {named.id!r} (a candidate of part {cand.part!r}) clashes with "
+                    f"an existing candidate or part name; part names must not look like "
+                    f"candidate ids (no '<' or '#')")
             self.ctx.cands[named.id] = named
             self.ctx.order.append(named.id)
             self.ctx.ancestry[named.id] = {**ancestry, cand.part: named.id}
@@ -458,6 +584,21 @@ class _Generator:
         return out
 
     # ------------------------------------------------------------------ stage (i)
+    def usable(self, part: str, pool: Sequence[str]) -> list[str]:
+        """The pool candidates ``part`` may hang off: originals and the first
+        ``PARENTS_PER_PART`` others (in pool order, cheapest first) that do not descend from
+        a candidate of ``part`` (which would be a cycle)."""
+        out: list[str] = []
+        n = 0
+        for pid in pool:
+            cand = self.ctx.cands[pid]
+            if cand.original:
+                out.append(pid)
+            elif n < PARENTS_PER_PART and part not in self.ctx.ancestry[pid]:
+                out.append(pid)
+                n += 1
+        return out
+
     def end_options(self, part: str, parent_pool: Mapping[str, Sequence[str]]
                     ) -> list[dict[str, list[_End]]]:
         """Per axis, per end: every anchored position within reach of the change limit."""
@@ -466,9 +607,7 @@ class _Generator:
         found: list[dict[tuple, _End]] = [dict() for _ in range(3)]
         for parent_part, rel in self.ctx.coplanar.get(part, ()):
             side = rel.detail.get("b_end" if rel.a == part else "a_end")
-            for pid in parent_pool.get(parent_part, ()):
-                if part in self.ctx.ancestry[pid]:
-                    continue  # would hang off a candidate of its own part
+            for pid in self.usable(part, parent_pool.get(parent_part, ())):
                 pbox = self.ctx.cands[pid].box
                 for axis in range(3):
                     reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
@@ -565,6 +704,13 @@ class _Generator:
                     fresh: frozenset[str]) -> list[tuple[Candidate, dict]]:
         """Stage (i) for one part: combine per-axis options into whole candidates.
 
+        Per axis the options are: unguided (the input interval), the best anchored ones, and
+        for the axes of a preserved bisector or coaxial relation with a parent part, the input
+        interval re-centred on each of that part's pool candidates (still unguided).  Without
+        the last, hanging off an *adjusted* parent on another axis would break the relation on
+        this one, and every such combination would be rejected.  A re-centred option is only
+        combined with anchors off the same parent candidate.
+
         Args:
             fresh: candidate ids new at the previous level; when non-empty, only candidates
                 hanging off at least one of them are made.
@@ -577,26 +723,46 @@ class _Generator:
             options = sorted(self.axis_options(part, axis, ends[axis]), key=self.option_rank)
             kept = _best_per_parent_set(options, fresh)
             unguided = _AxisOption(orig[0][axis], orig[1][axis], (), 2.0, ())
-            per_axis.append([unguided] + kept)
+            per_axis.append([unguided] + kept + self.recentred(part, axis, parent_pool))
         made: list[tuple[Candidate, dict]] = []
         for combo in itertools.product(*per_axis):
             if all(o.unguided for o in combo):
                 continue
-            ids = {pid for o in combo for _, pid in o.parents}
-            if fresh and not ids & fresh:
+            anchored_ids = {pid for o in combo if o.anchors for _, pid in o.parents}
+            if not {pid for o in combo if o.unguided for _, pid in o.parents} <= anchored_ids:
+                continue
+            if fresh and not anchored_ids & fresh:
                 continue
             box = ((combo[0].lo, combo[1].lo, combo[2].lo), (combo[0].hi, combo[1].hi, combo[2].hi))
-            anchors = [a for o in combo for a in o.anchors]
-            unguided = [ax for ax, o in enumerate(combo) if o.unguided]
-            built = self.build(part, box, anchors, (), unguided, sum(o.cost_adjust for o in combo))
+            built = self.build(part, box, [a for o in combo for a in o.anchors])
             if built is not None:
                 made.append(built)
-        made.sort(key=lambda ca: (ca[0].cost(self.w_a, self.w_d), _cand_sort_key(ca[0])))
-        return made[:CANDIDATES_PER_PART]
+        return _diverse(made, CANDIDATES_PER_PART, self.w_a, self.w_d)
+
+    def recentred(self, part: str, axis: int, parent_pool: Mapping[str, Sequence[str]]
+                  ) -> list[_AxisOption]:
+        """Unguided options: the input interval centred on a related pool candidate."""
+        orig = self.ctx.prims[part].box
+        lo0, hi0 = orig[0][axis], orig[1][axis]
+        out: list[_AxisOption] = []
+        for other, rel in self.ctx.preserved.get(part, ()):
+            if rel.type == "coplanar" or axis not in relation_axes(rel):
+                continue
+            for pid in self.usable(part, parent_pool.get(other, ())):
+                lo, hi = _centred_on(orig, axis, _mid(self.ctx.cands[pid].box, axis),
+                                     self.ctx.settings.max_change)
+                if (lo, hi) != (lo0, hi0):
+                    out.append(_AxisOption(lo, hi, (), 2.0, ((other, pid),)))
+        return out
 
     # ------------------------------------------------------------------ stage (ii)
     def restore(self, cand: Candidate) -> list[tuple[Candidate, dict]]:
-        """Candidates of related parts re-aligned to ``cand`` where it breaks a relation."""
+        """Candidates of related parts re-aligned to ``cand`` where it breaks a relation.
+
+        The relation's axes are re-aligned (:meth:`restore_axis`); each other axis keeps its
+        input interval or, when the part is coplanar with ``cand``'s part, takes one of the best
+        anchors off ``cand`` (a button re-centred on a moved grip still sits flush on its top).
+        """
         made: list[tuple[Candidate, dict]] = []
         anc = self.ctx.ancestry[cand.id]
         for other, rel in self.ctx.preserved.get(cand.part, ()):
@@ -609,21 +775,25 @@ class _Generator:
                      else relation_holds(rel, obox, cand.box))
             if holds:
                 continue
+            ends = self.end_options(other, {cand.part: [cand.id]})
             per_axis: list[list[_AxisOption]] = []
             for axis in range(3):
                 if axis in relation_axes(rel):
                     per_axis.append(self.restore_axis(other, axis, rel, cand, here_is_a))
                 else:
-                    per_axis.append([_AxisOption(obox[0][axis], obox[1][axis], (), 2.0, ())])
+                    anchored = sorted(self.axis_options(other, axis, ends[axis]),
+                                      key=self.option_rank)[:OPTIONS_PER_AXIS]
+                    per_axis.append([_AxisOption(obox[0][axis], obox[1][axis], (), 2.0, ())]
+                                    + anchored)
+            options: list[tuple[Candidate, dict]] = []
             for combo in itertools.product(*per_axis):
                 box = ((combo[0].lo, combo[1].lo, combo[2].lo),
                        (combo[0].hi, combo[1].hi, combo[2].hi))
-                anchors = [a for o in combo for a in o.anchors]
-                unguided = [ax for ax, o in enumerate(combo) if o.unguided]
-                built = self.build(other, box, anchors, (cand.id,), unguided,
-                                   sum(o.cost_adjust for o in combo))
+                built = self.build(other, box, [a for o in combo for a in o.anchors], (cand.id,))
                 if built is not None:
-                    made.append(built)
+                    options.append(built)
+            options.sort(key=lambda ca: (ca[0].cost(self.w_a, self.w_d), _cand_sort_key(ca[0])))
+            made.extend(options[:RESTORED_PER_RELATION])
         return made
 
     def restore_axis(self, part: str, axis: int, rel: Relation, cand: Candidate,
@@ -666,13 +836,19 @@ class _Generator:
                                Anchor(axis, "hi", cand.id, r_hi, _lines(r_hi), normal, side))
                     out.append(_AxisOption(lo, hi, anchors, _axis_cost(orig, axis, lo, hi, 0),
                                            ()))
-            centre = _mid(cbox, axis)
-            out.append(_AxisOption(centre - 0.5 * length, centre + 0.5 * length, (), 2.0, ()))
+            lo, hi = _centred_on(orig, axis, _mid(cbox, axis), mc)
+            out.append(_AxisOption(lo, hi, (), 2.0, ()))
         kept = [o for o in out if _within_change(orig, axis, o.lo, o.hi, mc)]
         kept.sort(key=lambda o: (o.cost_adjust, o.lo, o.hi))
         return kept[:OPTIONS_PER_AXIS]
 
     # ------------------------------------------------------------------ driver
+    def best_diverse(self, cands: Sequence[Candidate], k: int,
+                     ordered: bool = True) -> list[Candidate]:
+        """Up to ``k`` stored candidates of one part: :func:`_diverse` over ancestor parts."""
+        return [c for c, _ in _diverse([(c, self.ctx.ancestry[c.id]) for c in cands], k,
+                                       self.w_a, self.w_d, ordered)]
+
     def run(self) -> None:
         ctx = self.ctx
         for part in sorted(ctx.prims):
@@ -691,9 +867,7 @@ class _Generator:
             for c in anchored:
                 by_part.setdefault(c.part, []).append(c)
             for part in sorted(by_part):
-                best = sorted(by_part[part], key=lambda c: (c.cost(self.w_a, self.w_d),
-                                                            _cand_sort_key(c)))
-                for c in best[:RESTORE_PER_PART]:
+                for c in self.best_diverse(by_part[part], RESTORE_PER_PART):
                     restored_batch.extend(self.restore(c))
             restored = self.commit(restored_batch)
             new = anchored + restored
@@ -708,11 +882,37 @@ class _Generator:
             pool = {p: [p] for p in ctx.prims if ctx.prims[p].type != "custom"}
             fresh_ids: set[str] = set()
             for part, cs in grouped.items():
-                cs.sort(key=lambda c: (c.cost(self.w_a, self.w_d), _cand_sort_key(c)))
-                chosen = [c.id for c in cs[:PARENTS_PER_PART]]
+                # every new candidate, best of each ancestor set first: each child takes the
+                # first few it may use (``usable``)
+                chosen = [c.id for c in self.best_diverse(cs, len(cs), ordered=False)]
                 pool[part] = pool[part] + chosen
                 fresh_ids.update(chosen)
             fresh = frozenset(fresh_ids)
+
+
+def _diverse(made: Sequence[tuple[Candidate, Mapping[str, str]]], k: int, w_a: float,
+             w_d: float, ordered: bool = True) -> list[tuple[Candidate, Mapping[str, str]]]:
+    """Up to ``k`` of one part's candidates (with their ancestries), cheapest first, taken
+    round-robin over their sets of ancestor parts.
+
+    The cheapest candidates often all hang off the same parts (measured on the camera: all
+    16 cheapest prisms hung off the flash, whose top is 3 µm from the prism's); a part among
+    those ancestors can then hang off none of them (no cycles), and all of them break a
+    relation the same way.  Taking the best of each ancestor set first keeps the alternatives
+    that relation restoring and the next level need.
+
+    Returned cheapest first, or with ``ordered`` False in round-robin order (the best of every
+    ancestor set, then the second best of every set ...).
+    """
+    ranked = sorted(made, key=lambda ca: (ca[0].cost(w_a, w_d), _cand_sort_key(ca[0])))
+    seen: dict[tuple[str, ...], int] = {}
+    order: list[tuple[int, int]] = []
+    for i, (c, ancestry) in enumerate(ranked):
+        group = tuple(sorted(p for p in ancestry if p != c.part))
+        seen[group] = seen.get(group, 0) + 1
+        order.append((seen[group] - 1, i))
+    picked = [i for _, i in sorted(order)[:k]]
+    return [ranked[i] for i in (sorted(picked) if ordered else picked)]
 
 
 def _best_per_parent_set(options: list[_AxisOption], fresh: frozenset[str]) -> list[_AxisOption]:
@@ -746,11 +946,6 @@ def _face_area_of(pbox: Box, axis: int, normal: int) -> float:
         return _largest_face_area(pbox)
     u, v = (a for a in range(3) if a != normal)
     return _extent(pbox, u) * _extent(pbox, v)
-
-
-def _group_key(item: tuple) -> tuple:
-    (pid, axis, normal, side), _ = item
-    return (pid, axis, normal, side or "")
 
 
 def _anchor_key(a: Anchor) -> tuple:

@@ -26,13 +26,15 @@ construction a person repeats with a ruler on the page.
 A construction is an ordered tuple of :class:`ConstructionStep`; the number of steps is the
 entry's ``guide_lines``.  Steps are shared between entries with the same ``key`` (the ½ lines
 inside the ¼ construction are the ½ construction's), so several anchors on one face can count
-their common lines once (:func:`distinct_lines`).
+their common lines once (:func:`distinct_lines` along one axis, :func:`distinct_face_lines`
+along both axes of the face: the diagonals are common to both).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import lru_cache
 from typing import Iterable, Mapping
 
 #: Face coordinates ``(s, t)`` of every named point used by the catalogue.
@@ -270,8 +272,6 @@ CATALOGUE: tuple[RatioEntry, ...] = (
     _entry(2.0, "extend-1-after", "extend by one", _steps_extend_one(after=True)),
 )
 
-#: Ratios inside the parent (no extrusion), for constructions on a face.
-INSIDE: tuple[RatioEntry, ...] = tuple(e for e in CATALOGUE if not e.extrusion)
 #: The only entry usable when the parent's interval has no length (a plane's thickness).
 ALIGN_ONLY: tuple[RatioEntry, ...] = tuple(e for e in CATALOGUE if e.ratio == 0.0)
 
@@ -289,13 +289,47 @@ def entry_for(ratio: float) -> RatioEntry:
 
 
 def distinct_lines(ratios: Iterable[float]) -> int:
-    """Number of distinct lines needed to construct all ``ratios`` on one face.
+    """Number of distinct lines needed to construct all ``ratios`` along one axis of one face.
 
     Shared steps count once: ``distinct_lines([0.25, 0.75]) == 9`` (the three ½ lines plus three
     for each quarter), while each alone needs 6.
     """
-    keys = {step.key for r in ratios for step in entry_for(r).construction}
-    return len(keys)
+    return distinct_face_lines((r, False) for r in ratios)
+
+
+def distinct_face_lines(anchors: Iterable[tuple[float, bool]]) -> int:
+    """Number of distinct lines needed to construct ratios along *both* axes of one face.
+
+    Args:
+        anchors: ``(ratio, across)`` pairs; ``across`` False constructs the ratio along the
+            face's first axis (``s`` of the module docstring), True along its second axis: the
+            same construction with ``s`` and ``t`` swapped (``A`` stays, ``B`` and ``D`` swap).
+
+    A line is identified by its two end points in the face's own coordinates (the first axis's
+    ``(s, t)``), so lines common to both axes count once: the two diagonals of the face, and the
+    ½ line of one axis, which is the other's ``cross`` line.  ``distinct_face_lines([(0.5,
+    False), (0.5, True)]) == 4`` (diagonals A-C and B-D, the two ½ lines), not 3 + 3.  Along
+    one axis this counts exactly as the steps' ``key`` does.
+    """
+    lines: set[tuple[tuple[float, float], ...]] = set()
+    for ratio, across in anchors:
+        lines.update(_face_lines(entry_for(ratio).ratio, bool(across)))
+    return len(lines)
+
+
+@lru_cache(maxsize=None)
+def _face_lines(ratio: float, across: bool) -> frozenset[tuple[tuple[float, float], ...]]:
+    """The lines of one entry's construction as end-point pairs in the face's coordinates."""
+    out = set()
+    for step in entry_for(ratio).construction:
+        ends = []
+        for name in (step.start, step.end):
+            s, t = point_st(name)
+            if across:
+                s, t = t, s
+            ends.append((round(s, 9), round(t, 9)))
+        out.add(tuple(sorted(ends)))
+    return frozenset(out)
 
 
 def face_point(name: str, a, b, d) -> tuple[float, ...]:

@@ -31,7 +31,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any, Mapping, Sequence
+from typing import Any, Sequence
 
 from pyscipopt import Model, quicksum
 
@@ -274,10 +274,3 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
         SelectionError: bad input or no valid selection found.
     """
     return solve_selection_model(build_selection_model(candidates, relations, settings))
-
-
-def chosen_candidates(selection: Selection, candidates: Sequence[Candidate]
-                      ) -> Mapping[str, Candidate]:
-    """Part name -> its selected candidate."""
-    by_id = {c.id: c for c in candidates}
-    return {by_id[i].part: by_id[i] for i in selection.chosen}

@@ -20,6 +20,9 @@ from typing import Any, Iterable, Mapping
 #: largest extent (the generator's documented rule, restated).
 THIN = 0.05
 SLACK = 1e-9
+#: A cylinder stays round: its two extents across the axis keep the input's proportion within
+#: this fraction (the input box of a fitted cylinder is square, so: equal within 1 %).
+ROUND = 0.01
 
 
 def _length(box, axis):
@@ -51,9 +54,10 @@ def relation_kept(rel: Mapping[str, Any], box_a, box_b) -> bool:
         return _near(box_a[ia][axis], box_b[ib][axis], tol)
     if kind == "bisector":
         return _near(_centre(box_a, axis), _centre(box_b, axis), tol)
-    if kind == "coaxial":
-        return all(_near(_centre(box_a, u), _centre(box_b, u), tol)
-                   for u in range(3) if u != axis)
+    if kind == "coaxial":  # the box centre lines, Euclidean distance across the axis
+        du, dv = (_centre(box_a, u) - _centre(box_b, u) for u in range(3) if u != axis)
+        big = max([1.0] + [abs(x) for x in (*box_a[0], *box_a[1], *box_b[0], *box_b[1])])
+        return math.sqrt(du * du + dv * dv) <= tol + SLACK * big
     raise ValueError(f"unknown relation type {kind!r}")
 
 
@@ -63,7 +67,8 @@ def preserved(plan: Mapping[str, Any]) -> list[Mapping[str, Any]]:
 
 
 def check_candidate(plan: Mapping[str, Any], cand: Mapping[str, Any]) -> list[str]:
-    """Contract facts of one candidate: anchors exact, changes within limits, E_d right."""
+    """Contract facts of one candidate: anchors exact, changes within limits, E_d right, a
+    cylinder's cross-section round (its input proportion kept within ``ROUND``)."""
     out: list[str] = []
     cands = {c["id"]: c for c in plan["candidates"]}
     original = {p["name"]: p["primitive"]["box"] for p in plan["parts"]}[cand["part"]]
@@ -104,6 +109,14 @@ def check_candidate(plan: Mapping[str, Any], cand: Mapping[str, Any]) -> list[st
             if d_len > cap or d_mid > cap:
                 out.append(f"{cid}: axis {ax} changes length by {d_len:.6g} and midpoint by "
                            f"{d_mid:.6g}, more than {limit} x {n:.6g}")
+    if cand.get("primitive_type") == "cylinder" and cand.get("axis") in (0, 1, 2):
+        u, v = (a for a in range(3) if a != cand["axis"])
+        su = _length(box, u) * _length(original, v)  # Lu / Lv == Ou / Ov, cross-multiplied
+        sv = _length(box, v) * _length(original, u)
+        if abs(su - sv) > ROUND * max(su, sv) + SLACK:
+            out.append(f"{cid}: cylinder cross-section {_length(box, u):.6g} x "
+                       f"{_length(box, v):.6g} is not round (input {_length(original, u):.6g} x "
+                       f"{_length(original, v):.6g})")
     if not math.isclose(e_d, cand["cost_adjust"], rel_tol=1e-9, abs_tol=1e-9):
         out.append(f"{cid}: cost_adjust {cand['cost_adjust']!r}, definition gives {e_d!r}")
     if cand["original"]:

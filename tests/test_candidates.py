@@ -285,3 +285,128 @@ def test_candidate_json_is_plain():
     assert all(set(a) >= {"axis", "end", "parent", "ratio", "guide_lines"}
                for a in data["anchors"])
     assert math.isfinite(data["cost_adjust"])
+
+
+# --------------------------------------------------------------------------- review fixes
+
+
+def test_lines_shared_across_the_two_axes_of_a_face_count_once():
+    # ½ along both axes of one face: diagonals A-C and B-D serve both, plus the two ½ lines
+    assert ratios.distinct_face_lines([(0.5, False), (0.5, True)]) == 4  # not 3 + 3
+    # along one axis it counts exactly as distinct_lines
+    assert ratios.distinct_face_lines([(0.25, False), (0.75, False)]) == 9
+    # edges: 0 along s is edge A-D; 0 along t is edge A-B, a different line
+    assert ratios.distinct_face_lines([(0.0, False), (0.0, True)]) == 2
+
+
+def test_difficulty_counts_a_parent_face_once_across_axes():
+    # a 2 x 2 x 1 block with its lo corner at the centre of a 10 x 10 x 2 slab's top
+    prims = [prim("slab", (0, 0, 0), (10, 10, 2)), prim("block", (5, 5, 2), (7, 7, 3))]
+    rels = [rel("block", "slab", "coplanar", 2, a_end="lo", b_end="hi", coord=2.0,
+                preserved=True)]
+    cands = generate_candidates(prims, rels, SETTINGS)
+    want = {(0, "lo", "slab", 0.5), (1, "lo", "slab", 0.5), (2, "lo", "slab", 1.0),
+            (2, "hi", "slab", 1.5)}  # z: on the top, 1/2 the slab's 2 high
+    (c,) = [c for c in cands if {(a.axis, a.end, a.parent, a.ratio) for a in c.anchors} == want]
+    assert c.box == ((5, 5, 2), (7, 7, 3))
+    # x and y on the top face (10 x 10 = A_ref 100): 2 diagonals + two 1/2 lines = 4 lines;
+    # z on a 10 x 2 side face (area 20): the edge (1) + extend by 1/2 (7) = 8 lines
+    # -> 0.02 * (4 * 100/100 + 8 * 100/20) = 0.88; counting each axis on its own gave
+    # 0.02 * (3 + 3 + 40) = 0.92
+    assert c.cost_difficulty == pytest.approx(0.02 * (4 + 8 * 5))
+
+
+def test_a_candidate_id_clashing_with_a_part_name_is_an_error():
+    prims, rels = camera()
+    # a part named like the first grip candidate hanging off the body
+    prims = prims + [prim("grip<body#1", (20, 20, 20), (21, 21, 21))]
+    with pytest.raises(SelectionError, match=r"grip<body#1.*clashes"):
+        generate_candidates(prims, rels, SETTINGS)
+
+
+def test_cylinder_candidates_stay_round():
+    prims, rels = camera()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    lenses = [c for c in cands if c.part == "lens"]
+    assert len(lenses) > 5
+    for c in lenses:  # axis y: the x and z extents stay equal (input 3.2 x 3.2)
+        lx, lz = c.box[1][0] - c.box[0][0], c.box[1][2] - c.box[0][2]
+        assert abs(lx - lz) <= 0.01 * max(lx, lz)
+    # some lens sits at 1/4..3/4 of the body's x (2.5..7.5, 5 long: a 56 % change, dropped) or
+    # keeps its size: in every case both cross extents move together
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    assert [p for c in plan["candidates"] for p in check_candidate(plan, c)] == []
+    # the checker's rule can fail: an oval lens 3.2 x 3.3 (3 % off)
+    lens = next(c for c in plan["candidates"] if c["id"] == "lens")
+    oval = {**lens, "box": [[3.4, -3.9, 1.4], [6.6, 0.0, 4.7]]}
+    assert any("not round" in p for p in check_candidate(plan, oval))
+
+
+@pytest.mark.parametrize("du, dv, holds", [(0.8, 0.0, True), (0.8, 0.8, False),
+                                           (0.7, 0.7, True)])
+def test_coaxial_tolerance_is_circular_everywhere(du, dv, holds):
+    # hypot(0.8, 0.8) = 1.13 > 1 tolerance; hypot(0.7, 0.7) = 0.99 <= 1: the same rule in
+    # relate, candidates.relation_holds and the checker (each axis alone would accept 0.8, 0.8)
+    tol = 0.05
+    r = rel("a", "b", "coaxial", 2, tol=tol, line=[0.0, 0.0])
+    a = ((-1.0, -1.0, 0.0), (1.0, 1.0, 1.0))
+    b = ((-0.5 + du * tol, -0.5 + dv * tol, 1.0), (0.5 + du * tol, 0.5 + dv * tol, 2.0))
+    assert relation_holds(r, a, b) is holds
+    d = {"type": "coaxial", "axis": 2, "tolerance": tol, "detail": {}}
+    assert relation_kept(d, a, b) is holds
+
+
+def _knob_on_post():
+    """A post on a floor snaps its y to 1/4..3/4 of the floor (2.9..9.3 -> 3..9, mid 6.1 ->
+    6.0); a knob on the post's x-hi side shares the post's y mid-plane (bisector, tolerance
+    0.03).  No ratio fits the knob's y, so it stays unguided and must follow the post."""
+    prims = [prim("floor", (0, 0, 0), (12, 12, 1)), prim("post", (3, 2.9, 1), (9, 9.3, 6)),
+             prim("knob", (9, 5.7, 3), (10, 6.5, 4))]
+    rels = [rel("floor", "post", "coplanar", 2, a_end="hi", b_end="lo", coord=1.0,
+                preserved=True),
+            rel("knob", "post", "bisector", 1, tol=0.03, coord=6.1, preserved=True),
+            rel("knob", "post", "coplanar", 0, tol=0.03, a_end="lo", b_end="hi", coord=9.0)]
+    return prims, rels
+
+
+def _knobs_on_moved_posts(cands):
+    by_id = {c.id: c for c in cands}
+    out = []
+    for c in cands:
+        posts = [by_id[p] for p in c.parents if by_id[p].part == "post"]
+        if c.part == "knob" and posts and posts[0].box[0][1] == 3.0:
+            out.append((c, posts[0]))
+    return out
+
+
+def test_a_child_follows_an_adjusted_parent_on_relation_axes(monkeypatch):
+    import h2s_print.candidates as candidates
+
+    monkeypatch.setattr(candidates, "RESTORE_PER_PART", 0)  # stage (i) alone
+    prims, rels = _knob_on_post()
+    cands = generate_candidates(prims, rels, SETTINGS)
+    found = _knobs_on_moved_posts(cands)
+    assert found
+    for knob, post in found:
+        # x: flush on the post's side (anchored); y: re-centred toward the post's mid as far
+        # as the change limit allows (0.1 x 0.8 = 0.08): from 6.1 to 6.02 for a post at 3..9,
+        # within the 0.03 tolerance of its 6.0
+        assert any(a.axis == 0 and a.parent == post.id for a in knob.anchors)
+        assert 1 in knob.unguided_axes
+        post_mid = (post.box[0][1] + post.box[1][1]) / 2  # 6.0 (3..9) or 6.2 (3..9.4)
+        assert (knob.box[0][1] + knob.box[1][1]) / 2 == pytest.approx(
+            6.1 + max(-0.08, min(0.08, post_mid - 6.1)))
+        assert relation_holds(rels[1], knob.box, post.box)
+    plan = plan_from(prims, rels, cands, [], SETTINGS)
+    assert [p for c in plan["candidates"] for p in check_candidate(plan, c)] == []
+
+
+def test_restoring_also_anchors_the_other_axes():
+    prims, rels = _knob_on_post()
+    cands = generate_candidates(prims, rels, dataclasses.replace(SETTINGS, depth=1))
+    # depth 1: the only knobs hanging off a moved post are restored ones; they keep the
+    # bisector (y re-centred) and still sit flush on the post's side (x anchored at ratio 1)
+    found = _knobs_on_moved_posts(cands)
+    assert found
+    assert any(any(a.axis == 0 and a.ratio == 1.0 and a.parent == post.id
+                   for a in knob.anchors) for knob, post in found)

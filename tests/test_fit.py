@@ -7,7 +7,7 @@ import pytest
 import trimesh
 
 from h2s_print.errors import ModelError
-from h2s_print.fit import fit_primitive, fit_primitives
+from h2s_print.fit import ENCLOSE, FitSettings, fit_primitive, fit_primitives
 from h2s_print.types import Model, Part, box_diagonal, readonly
 
 
@@ -167,11 +167,12 @@ def test_sphere_is_not_misreported():
     prim = fit_primitive(part)
     assert prim.type in ("cuboid", "cylinder")  # a box or drum around it, never a plane/frustum
     assert prim.residual > 0.02  # and it says the fit is poor
-    # its box is the least-squares one: a centred cube inside the bounding cube
+    # its box encloses it: the bounding cube (a cuboid's box is the part's bounding box)
     lo, hi = np.array(prim.box[0]), np.array(prim.box[1])
-    assert np.allclose((lo + hi) / 2, 0, atol=0.01)
-    assert np.ptp(hi - lo) < 0.02 and np.all(hi <= 1.0) and np.all(lo >= -1.0)
-    custom = fit_primitive(part, custom_above=0.02)
+    assert np.all(lo <= np.array(part.box[0]) + 1e-12)
+    assert np.all(hi >= np.array(part.box[1]) - 1e-12)
+    assert np.allclose((lo + hi) / 2, 0, atol=0.01) and np.ptp(hi - lo) < 0.02
+    custom = fit_primitive(part, FitSettings(custom_above=0.02))
     assert custom.type == "custom" and custom.axis is None
     assert custom.box == part.box
     assert custom.residual > 0.02
@@ -241,9 +242,17 @@ def test_shared_models_fit_as_expected(shared_models):
     assert all(p.type == "cylinder" and p.axis == 2 for p in dowels)
     assert all(p.detail["radius"] == pytest.approx(6.35 / 2, rel=0.01) for p in dowels)  # 1/4"
     # the oven's five push buttons face the front (-Y): cylinders along y
-    oven = fit_primitives(read_path(shared_models / "partnet_mobility_oven_101773"))
+    oven_model = read_path(shared_models / "partnet_mobility_oven_101773")
+    oven = fit_primitives(oven_model)
     buttons = [p for p in oven if "button" in p.part]
     assert len(buttons) == 5 and all(p.type == "cylinder" and p.axis == 1 for p in buttons)
+    # the oven's hollow body (an open cavity behind the door) is drawn as its bounding box, so
+    # the door, knobs and buttons mounted on its front face touch it: coplanar relations
+    body = next(p for p in oven if p.part == "10_base_body")
+    assert body.type == "cuboid" and body.box == oven_model.part("10_base_body").box
+    rels = detect_relations(oven)
+    assert {r.b for r in rels if r.type == "coplanar" and r.a == "10_base_body"} >= {
+        "1_door", "2_knob", "3_knob", "4_knob", "5_button"}
     # the Lack table: four square legs and a top, all boxes
     lack = fit_primitives(read_path(shared_models / "ikea_table_lack" / "table_lack_0825.glb",
                                     up="z"))
@@ -252,3 +261,50 @@ def test_shared_models_fit_as_expected(shared_models):
         rels = detect_relations(prims)
         pairs = {(r.a, r.b) for r in rels}
         assert sum(r.detail["preserved"] for r in rels) == len(pairs)
+
+
+def _drawer(w=0.4, d=0.5, h=0.15, t=0.012) -> trimesh.Trimesh:
+    """An open-topped drawer: a bottom and four walls, each a closed slab (inner walls included)."""
+    slabs = [((w, d, t), (0, 0, t / 2)),  # bottom
+             ((t, d, h), (-(w - t) / 2, 0, h / 2)), ((t, d, h), ((w - t) / 2, 0, h / 2)),
+             ((w, t, h), (0, -(d - t) / 2, h / 2)), ((w, t, h), (0, (d - t) / 2, h / 2))]
+    return trimesh.util.concatenate(
+        [trimesh.creation.box(e, trimesh.transformations.translation_matrix(c)) for e, c in slabs])
+
+
+def test_hollow_open_box_is_a_cuboid_enclosing_it():
+    part = _part(*_as_arrays(_drawer()))
+    prim = fit_primitive(part)
+    assert prim.type == "cuboid" and prim.axis is None
+    # the scaffold is the bounding box (-0.2, -0.25, 0) .. (0.2, 0.25, 0.15), not the
+    # least-squares box, which the inner walls pull inward
+    assert prim.box == part.box
+    assert np.allclose(prim.box, ((-0.2, -0.25, 0), (0.2, 0.25, 0.15)), atol=1e-12)
+    # the residual is measured to that box: the inner walls lie a wall (0.012) or more inside,
+    # so it is positive but small against the diagonal sqrt(0.4² + 0.5² + 0.15²) = 0.658
+    assert 0.001 < prim.residual < 0.05
+
+
+@pytest.mark.parametrize("kind", ["cylinder", "frustum"])
+def test_round_boxes_enclose_the_part_within_the_tolerance(kind):
+    # a coarse 12-sided cylinder (and a frustum with a lip) sit partly outside a least-squares fit
+    if kind == "cylinder":
+        mesh = trimesh.creation.cylinder(0.5, 3.0, sections=12)
+    else:
+        mesh = _frustum_mesh((1.0, 0.6), (0.5, 0.3), 2.0)
+    part = _part(*_as_arrays(mesh))
+    prim = fit_primitive(part)
+    assert prim.type == kind
+    diag = box_diagonal(part.box)
+    for k in range(3):  # no side more than ENCLOSE (0.5 %) of the diagonal inside the bounding box
+        assert prim.box[0][k] <= part.box[0][k] + ENCLOSE * diag * (1 + 1e-9)
+        assert prim.box[1][k] >= part.box[1][k] - ENCLOSE * diag * (1 + 1e-9)
+    if kind == "cylinder":  # square across the axis: both cross extents are twice the radius
+        size = np.subtract(prim.box[1], prim.box[0])
+        assert size[0] == pytest.approx(size[1], rel=1e-12)
+        assert size[0] == pytest.approx(2 * prim.detail["radius"], rel=1e-12)
+
+
+def test_fit_settings_are_checked():
+    with pytest.raises(ValueError, match="n_samples"):
+        FitSettings(n_samples=8)

@@ -7,7 +7,7 @@ import random
 import pytest
 
 from h2s_print.errors import ModelError
-from h2s_print.relate import detect_relations
+from h2s_print.relate import PLANE_GAP, detect_relations
 from h2s_print.types import RELATION_PREFERENCE, Primitive, as_box
 
 
@@ -66,13 +66,28 @@ def test_coplanar_near_miss(factor, found):
     assert bool(floor) is found
 
 
-def test_far_apart_faces_in_one_plane_are_not_coplanar():
-    # both stand on z = 0, but 0.5 apart in x (gap > tol 0.0346): the face rectangles do not meet
+@pytest.mark.parametrize("factor, found", [(0.99, True), (1.01, False)])
+def test_faces_in_one_plane_are_coplanar_only_when_near(factor, found):
+    # both stand on z = 0; b's diagonal sqrt(1 + 1 + 4) = 2.449 is the larger, so the faces may
+    # be up to PLANE_GAP * 2.449 = 1.2247 apart in the plane (a gap of 0.5 is fine: two boxes
+    # standing side by side on one floor)
+    limit = PLANE_GAP * 6 ** 0.5
+    assert PLANE_GAP == 0.5
     a = _cuboid("a", (0, 0, 0), (1, 1, 1))
-    b = _cuboid("b", (1.5, 0, 0), (2.5, 1, 2))
-    assert not _of(detect_relations([a, b]), "a", "b", "coplanar")
-    # within tol of touching (gap 0.03 < 0.0346) they are
-    c = _cuboid("c", (1.03, 0, 0), (2.03, 1, 2))
+    g = factor * limit
+    b = _cuboid("b", (1 + g, 0, 0), (2 + g, 1, 2))
+    floor = [r for r in _of(detect_relations([a, b]), "a", "b", "coplanar") if r.axis == 2]
+    assert bool(floor) is found
+    assert [r for r in _of(detect_relations([a, _cuboid("c", (1.5, 0, 0), (2.5, 1, 2))]), "a", "c",
+                                            "coplanar") if r.axis == 2]
+
+
+def test_the_gap_in_the_plane_is_euclidean():
+    # 0.9 apart in x and in y: each alone is within 1.2247, together sqrt(0.81 + 0.81) = 1.273
+    a = _cuboid("a", (0, 0, 0), (1, 1, 1))
+    b = _cuboid("b", (1.9, 1.9, 0), (2.9, 2.9, 2))
+    assert not [r for r in _of(detect_relations([a, b]), "a", "b", "coplanar") if r.axis == 2]
+    c = _cuboid("c", (1.8, 1.8, 0), (2.8, 2.8, 2))  # sqrt(0.64 + 0.64) = 1.131: near enough
     assert [r for r in _of(detect_relations([a, c]), "a", "c", "coplanar") if r.axis == 2]
 
 
