@@ -332,6 +332,7 @@ def _num(v: float) -> str:
     return f"{v:g}"
 
 
+#: Part and view names: no '<', '+', '#' or ':' (they structure candidate ids like "grip<body#3").
 _NAME = r"[A-Za-z0-9][A-Za-z0-9_.-]*"
 
 

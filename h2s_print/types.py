@@ -132,8 +132,9 @@ class Primitive:
             ``None`` for cuboids and custom parts.
         box: the primitive's axis-aligned box, model units (cylinders and frusta included:
             anchoring works on boxes).
-        residual: RMS distance of surface samples to the primitive's surface divided by the
-            part's bounding-box diagonal (unit-free).
+        residual: RMS distance of surface samples to the surface of the reported primitive
+            (whose box encloses the part) divided by the part's bounding-box diagonal
+            (unit-free).  The type itself is chosen by the least-squares fit's score.
         detail: type-specific parameters, plain JSON values, for example a frustum's
             ``{"lo_half": [a, b], "hi_half": [c, d]}`` half-sizes of its end rectangles across the axis.
     """
@@ -152,8 +153,10 @@ class Relation:
 
     Attributes:
         a, b: part names, ``a < b``.
-        type: ``coplanar`` (a face of a and a face of b lie in one plane normal to ``axis``),
-            ``coaxial`` (both rotational, their axis lines along ``axis`` coincide) or
+        type: ``coplanar`` (a face of a and a face of b lie in one plane normal to ``axis``,
+            within half the larger box diagonal of each other in that plane), ``coaxial`` (one
+            rotational about ``axis``, the other too or a cuboid; their axis lines, box centre
+            lines for a cuboid, within ``tolerance`` Euclidean distance) or
             ``bisector`` (their mid-planes normal to ``axis`` coincide).
         axis: 0, 1 or 2.
         tolerance: the distance, model units, within which it was accepted.
@@ -235,7 +238,8 @@ class Guide:
         from3d, to3d: end points, model units.
         from_mm, to_mm: their projections on the sheet, mm.
         role: ``construction`` (intermediate line, novice only), ``guide`` (the resulting guide
-            line, novice and apprentice) or ``vanishing`` (a line toward a vanishing point).
+            line, novice and apprentice) or ``vanishing`` (a line toward a vanishing point,
+            also carrying a result line over to the child's face; novice and apprentice).
     """
 
     id: str
@@ -252,7 +256,8 @@ class Stroke:
     """A line of the drawing itself (not a guide): scaffold edge, ellipse or contour.
 
     Attributes:
-        kind: ``scaffold`` (primitive edge), ``ellipse`` or ``contour``.
+        kind: ``scaffold`` (primitive edge with a face toward the camera),
+            ``scaffold_hidden`` (a back edge, drawn dotted), ``ellipse`` or ``contour``.
         part: the part it belongs to.
         points3d: polyline vertices, model units.
         points_mm: their projections on the sheet, mm.
