@@ -1,6 +1,9 @@
-"""Benchmark: candidate generation and SCIP selection on generated models of 10-80 parts.
+"""Benchmark: candidate generation and SCIP selection on the example models and on generated models of 10-80 parts.
 
 Run: ``python3 benchmarks/bench_select.py [--sizes 10 20 40 80] [--seed 1] [--time-limit 30]``
+
+The example models (``configs/*.yaml``, loaded and fitted as ``h2s plan`` does) come first,
+then the generated ones.
 
 Models are generated (seeded) the way man-made objects are built: boxes, cylinders and frusta
 attached to a face of an earlier part, flush with it, spanning roughly easy fractions of it with
@@ -74,14 +77,30 @@ def make_model(n_parts: int, seed: int) -> list[Primitive]:
     return prims
 
 
+EXAMPLES = ("camera", "mixer", "train", "roller")
+
+
+def example_primitives(name: str) -> list[Primitive]:
+    """The fitted primitives of an example config's model."""
+    from h2s_print.config import load_tutorial
+    from h2s_print.fit import fit_primitives
+    from h2s_print.load import load_model
+
+    tutorial = load_tutorial(Path(__file__).resolve().parents[1] / "configs" / f"{name}.yaml")
+    return list(fit_primitives(load_model(tutorial.model)))
+
+
 def run(sizes: list[int], seed: int, time_limit: float) -> None:
-    header = (f"{'parts':>5} {'rels':>9} {'cands':>6} {'gen s':>6} {'formulation':>11} "
+    header = (f"{'model':>8} {'parts':>5} {'rels':>9} {'cands':>6} {'gen s':>6} {'formulation':>11} "
               f"{'constr':>7} {'build s':>7} {'solve s':>7} {'objective':>10} {'status':>10} "
               f"{'anchored':>8}")
     print(header)
     print("-" * len(header))
-    for n in sizes:
-        prims = make_model(n, seed + n)
+    cases = [(name, lambda name=name: example_primitives(name)) for name in EXAMPLES]
+    cases += [(f"gen{n}", lambda n=n: make_model(n, seed + n)) for n in sizes]
+    for label, make in cases:
+        prims = make()
+        n = len(prims)
         rels = detect_relations(prims)
         n_pres = sum(1 for r in rels if r.detail.get("preserved"))
         settings = SolverSettings(time_limit_s=time_limit)
@@ -96,7 +115,7 @@ def run(sizes: list[int], seed: int, time_limit: float) -> None:
             build_s = time.perf_counter() - t1
             sel = solve_selection_model(model)
             anchored = sum(1 for i in sel.chosen if by_id[i].anchors)
-            print(f"{n:>5} {len(rels):>4}({n_pres:>3}) {len(cands):>6} {gen_s:>6.2f} {form:>11} "
+            print(f"{label:>8} {n:>5} {len(rels):>4}({n_pres:>3}) {len(cands):>6} {gen_s:>6.2f} {form:>11} "
                   f"{sel.n_constraints:>7} {build_s:>7.2f} {sel.seconds:>7.2f} "
                   f"{sel.objective:>10.3f} {sel.status:>10} {anchored:>4}/{n:<3}", flush=True)
 
