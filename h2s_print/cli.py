@@ -1,8 +1,15 @@
 """The ``h2s`` command line (DESIGN.md §3b).
 
 Only this module prints and chooses exit codes: 0 on success, 2 for a user's mistake
-(an :class:`~h2s_print.errors.H2SError`, one line on stderr naming the file and field),
-1 for a bug (anything else), 130 on Ctrl-C.
+(an :class:`~h2s_print.errors.H2SError` or a bad command line: one line on stderr,
+``h2s: error: <file>: <field>: <what>``), 1 for a bug (anything else: the traceback and a line
+saying it is a bug), 130 on Ctrl-C.  Nothing is written when a build fails (see
+:mod:`h2s_print.pipeline`).
+
+Everything but the command's data (``inspect`` tables and JSON, ``plan --text``) goes to stderr:
+log messages, warnings, and progress.  Progress is a bar redrawn in place when stderr is a
+terminal, else one plain line per milestone (a tutorial's plan, views, layout ...); ``-q`` shows
+errors only, ``-v`` adds debug messages and every progress step.
 """
 
 from __future__ import annotations
@@ -10,9 +17,12 @@ from __future__ import annotations
 import argparse
 import json
 import logging
+import os
+import shutil
 import sys
+import traceback
 from pathlib import Path
-from typing import Sequence
+from typing import IO, Sequence
 
 from . import __version__
 from .errors import H2SError
@@ -20,10 +30,33 @@ from .errors import H2SError
 log = logging.getLogger("h2s_print")
 
 CONFIG_SUFFIXES = (".yaml", ".yml")
+#: Exit statuses.
+EXIT_OK, EXIT_BUG, EXIT_USER, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+class _UsageError(Exception):
+    """A bad command line (argparse's complaint), reported like any user mistake."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse that reports a bad command line as one ``h2s: error:`` line (exit 2)."""
+
+    def error(self, message: str):  # type: ignore[override]
+        raise _UsageError(f"{self.prog}: {message} (see {self.prog} --help)")
+
+
+def _jobs(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if n < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0 (0: one per CPU), got {n}")
+    return n or (os.cpu_count() or 1)
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="h2s", description="Printable step-by-step sketching workbooks from 3D models.")
     parser.add_argument("--version", action="version", version=f"h2s {__version__}")
     verbosity = parser.add_mutually_exclusive_group()
@@ -41,31 +74,131 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("config", type=Path)
     p.add_argument("-o", "--output", type=Path, default=Path("output"), help="output folder")
     p.add_argument("--text", action="store_true", help="also print the steps as text")
+    p.add_argument("--no-cache", action="store_true",
+                   help="solve again; do not read or write DIR/.h2s-cache")
 
     p = sub.add_parser("build", help="PDF workbooks (tutorial or book config) and plan.json")
     p.add_argument("config", type=Path)
     p.add_argument("-o", "--output", type=Path, default=Path("output"), help="output folder")
+    p.add_argument("-j", "--jobs", type=_jobs, default=1, metavar="N",
+                   help="build a book's tutorials in N processes (default 1; 0: one per CPU)")
+    p.add_argument("--no-cache", action="store_true",
+                   help="solve every plan again; do not read or write DIR/.h2s-cache")
     return parser
 
 
+# ----------------------------------------------------------------------------- console
+
+
+class _Console(logging.Handler):
+    """Log messages and progress on stderr: a bar on a terminal, plain lines elsewhere."""
+
+    def __init__(self, stream: IO[str], level: int, tty: bool):
+        super().__init__(level)
+        self.stream = stream
+        self.tty = tty
+        self.total = 0
+        self.done = 0
+        self.shown = False  # a bar is on the current line
+
+    # logging -----------------------------------------------------------------------
+    def emit(self, record: logging.LogRecord) -> None:
+        try:
+            msg = record.getMessage()
+            if record.levelno >= logging.WARNING:
+                msg = f"h2s: warning: {msg}"
+            self._line(msg)
+        except Exception:  # noqa: BLE001 - logging must never raise
+            self.handleError(record)
+
+    def _line(self, text: str) -> None:
+        bar = self.shown
+        self.clear()
+        self.stream.write(text + "\n")
+        if bar:
+            self._draw(self._last)
+        self.stream.flush()
+
+    # progress ----------------------------------------------------------------------
+    _last = ""
+
+    def start(self, total: int) -> None:
+        self.total, self.done = max(1, total), 0
+
+    def progress(self, event) -> None:
+        self.done = min(self.total, self.done + event.units)
+        line = f"{event.tutorial}: {event.text}"
+        if event.milestone:
+            log.info("%s", line)
+        else:
+            log.debug("%s", line)
+        if self.tty and self.level <= logging.INFO:
+            self._draw(line)
+            self.stream.flush()
+
+    def _draw(self, text: str) -> None:
+        self._last = text
+        width = shutil.get_terminal_size((80, 24)).columns
+        frac = self.done / self.total if self.total else 0.0
+        cells = 20
+        fill = int(round(frac * cells))
+        head = f"[{'#' * fill}{'.' * (cells - fill)}] {100 * frac:3.0f}% "
+        line = (head + text)[: max(10, width - 1)]
+        self.stream.write("\r\x1b[K" + line)
+        self.shown = True
+
+    def clear(self) -> None:
+        if self.shown:
+            self.stream.write("\r\x1b[K")
+            self.stream.flush()
+            self.shown = False
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    args = _parser().parse_args(argv)
-    level = logging.WARNING if args.quiet else logging.DEBUG if args.verbose else logging.INFO
-    logging.basicConfig(level=level, format="%(message)s", stream=sys.stderr)
+    """Run ``h2s`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    stderr = sys.stderr
+    try:
+        args = _parser().parse_args(argv)
+    except _UsageError as exc:
+        print(f"h2s: error: {_one_line(exc)}", file=stderr)
+        return EXIT_USER
+    level = logging.ERROR if args.quiet else logging.DEBUG if args.verbose else logging.INFO
+    tty = bool(getattr(stderr, "isatty", lambda: False)())
+    console = _Console(stderr, level, tty)
+    root = logging.getLogger()
+    root.addHandler(console)
+    old_level = log.level
+    log.setLevel(level)
     try:
         if args.command == "inspect":
             return _inspect(args)
         if args.command == "plan":
-            return _plan(args)
+            return _plan(args, console)
         if args.command == "build":
-            return _build(args)
+            return _build(args, console)
+        return EXIT_BUG  # pragma: no cover - argparse guarantees a command
     except H2SError as exc:
-        print(f"h2s: error: {exc}", file=sys.stderr)
-        return 2
+        console.clear()
+        print(f"h2s: error: {_one_line(exc)}", file=stderr)
+        return EXIT_USER
     except KeyboardInterrupt:
-        print("h2s: interrupted", file=sys.stderr)
-        return 130
-    return 1  # pragma: no cover - argparse guarantees a command
+        console.clear()
+        print("h2s: interrupted; nothing was written", file=stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:  # noqa: BLE001 - anything else is a bug: say so, with the trace
+        console.clear()
+        traceback.print_exc(file=stderr)
+        print(f"h2s: internal error (this is a bug in h2s {__version__}, please report it with "
+              f"the traceback above): {type(exc).__name__}: {_one_line(exc)}", file=stderr)
+        return EXIT_BUG
+    finally:
+        console.clear()
+        root.removeHandler(console)
+        log.setLevel(old_level)
 
 
 # ----------------------------------------------------------------------------- inspect
@@ -139,32 +272,47 @@ def _table(rows: list[tuple[str, ...]]) -> list[str]:
 # ----------------------------------------------------------------------------- plan, build
 
 
-def _plan(args: argparse.Namespace) -> int:
+def _plan(args: argparse.Namespace, console: _Console) -> int:
+    from .cache import cache_folder
     from .config import load_tutorial
-    from .pipeline import plan_tutorial, write_plan
+    from .files import check_writable, write_many_atomic
+    from .pipeline import plan_bytes, plan_tutorial
 
     tutorial = load_tutorial(args.config)
-    result = plan_tutorial(tutorial)
-    path = write_plan(result, args.output / tutorial.name)
-    sel = result.plan.selection
-    note = "" if sel.optimal else "  (NOT proven optimal: time limit reached)"
-    log.info("%s: %d parts, %d candidates, objective %.4f, SCIP %s in %.2f s%s",
-             tutorial.name, len(result.plan.model.parts), len(result.plan.candidates),
-             sel.objective, sel.status, sel.seconds, note)
+    check_writable(args.output)
+    n = len(tutorial.views) * len(tutorial.levels)
+    console.start(1 + n)
+    result = plan_tutorial(tutorial, cache_dir=None if args.no_cache else cache_folder(args.output),
+                           progress=console.progress)
+    text = None
     if args.text:
         from .pipeline import steps_text
 
-        print(steps_text(result))
+        text = steps_text(result)
+    (path,) = write_many_atomic([(args.output / tutorial.name / "plan.json", plan_bytes(result))])
+    console.clear()
+    if text is not None:
+        print(text)
     log.info("wrote %s", path)
-    return 0
+    return EXIT_OK
 
 
-def _build(args: argparse.Namespace) -> int:
-    from .pipeline import build
+def _build(args: argparse.Namespace, console: _Console) -> int:
+    from .config import load_config
+    from .pipeline import STEP_FILE, build, work_units
 
-    for path in build(args.config, args.output):
-        log.info("wrote %s", path)
-    return 0
+    console.start(work_units(load_config(args.config)))
+    written = build(args.config, args.output, jobs=args.jobs, cache=not args.no_cache,
+                    progress=console.progress)
+    console.clear()
+    steps = [p for p in written if p.name.startswith(STEP_FILE.split("{")[0])]
+    for path in written:
+        if path not in steps:
+            log.info("wrote %s", path)
+    if steps:
+        folders = sorted({p.parent for p in steps})
+        log.info("wrote %d step files in %d folders (%s ...)", len(steps), len(folders), folders[0])
+    return EXIT_OK
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -3,7 +3,9 @@
 Every output is written to a temporary file in the destination folder and renamed over the
 target only when complete (``os.replace`` is atomic on one file system), so an error or
 Ctrl-C never leaves a half-written PDF or plan.json, and an existing output is only ever
-replaced by a complete one.
+replaced by a complete one.  :func:`write_many_atomic` writes a build's files together: all
+complete temporary files first, then only renames.  :func:`check_writable` checks ``-o`` before
+any work is done.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 from .errors import RenderError
 
@@ -35,25 +37,20 @@ def _umask() -> int:
 
 
 def write_bytes_atomic(path: Path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (temp file + rename)."""
+    """Write ``data`` to ``path`` atomically (temp file + rename).
+
+    Raises:
+        RenderError: naming ``path`` when its folder cannot be created or it cannot be written.
+    """
     path = Path(path)
     ensure_folder(path.parent)
-    fd, tmp = -1, ""
+    tmp = _write_temp(path, data)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
-        os.fchmod(fd, 0o666 & ~_umask())  # mkstemp makes 0600; outputs are ordinary files
-        with os.fdopen(fd, "wb") as handle:
-            fd = -1
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
         os.replace(tmp, path)
         tmp = ""
     except OSError as exc:
         raise RenderError(f"{path}: cannot write: {exc.strerror or exc}") from None
     finally:
-        if fd >= 0:
-            os.close(fd)
         if tmp and os.path.exists(tmp):
             os.unlink(tmp)
     return path
@@ -67,3 +64,90 @@ def dumps_json(data: Any) -> str:
 def write_json_atomic(path: Path, data: Any) -> Path:
     """Write ``data`` as JSON to ``path`` atomically."""
     return write_bytes_atomic(path, dumps_json(data).encode("utf-8"))
+
+
+def check_writable(folder: Path) -> Path:
+    """Check, without creating anything, that ``folder`` can be created or written.
+
+    Walks up to the nearest existing ancestor: it must be a folder and writable.  Catches ``-o``
+    pointing at a file, or below one, before any work is done.
+
+    Raises:
+        RenderError: naming ``folder`` and what is wrong.
+    """
+    folder = Path(folder)
+    probe = folder
+    while not probe.exists():
+        if probe.parent == probe:
+            break
+        probe = probe.parent
+    if probe.exists() and not probe.is_dir():
+        what = "is a file" if probe == folder else f"is below the file {probe}"
+        raise RenderError(f"{folder}: cannot write outputs there: it {what} "
+                          "(-o must name a folder)")
+    if probe.exists() and not os.access(probe, os.W_OK | os.X_OK):
+        raise RenderError(f"{folder}: cannot write outputs there: {probe} is not writable")
+    return folder
+
+
+def write_many_atomic(items: Sequence[tuple[Path, bytes]]) -> list[Path]:
+    """Write several files as nearly all-or-nothing as one file system allows.
+
+    Phase 1 writes every file's bytes to a temporary file next to it (fsynced); if any write
+    fails, or the user presses Ctrl-C, every temporary file is removed and no target changes.
+    Phase 2 renames each temporary file over its target (``os.replace``, atomic per file); only
+    a failure or Ctrl-C inside these few renames can leave some targets new and others old,
+    and each file is always complete.
+
+    Args:
+        items: ``(path, bytes)`` pairs; paths must be distinct.
+
+    Returns:
+        The paths written, in ``items`` order.
+
+    Raises:
+        RenderError: naming the first path that cannot be written.
+    """
+    temps: list[str] = []
+    done = False
+    try:
+        for path, data in items:
+            path = Path(path)
+            if path.is_dir():  # found now, not halfway through the renames
+                raise RenderError(f"{path}: cannot write: a folder of that name is in the way")
+            ensure_folder(path.parent)
+            temps.append(_write_temp(path, data))
+        for (path, _), tmp in zip(items, temps):
+            try:
+                os.replace(tmp, path)
+            except OSError as exc:
+                raise RenderError(f"{path}: cannot write: {exc.strerror or exc}") from None
+        done = True
+    finally:
+        if not done:
+            for tmp in temps:
+                if os.path.exists(tmp):
+                    os.unlink(tmp)
+    return [Path(p) for p, _ in items]
+
+
+def _write_temp(path: Path, data: bytes) -> str:
+    """``data`` in a complete, fsynced temporary file in ``path``'s folder; returns its name."""
+    fd, tmp = -1, ""
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=path.parent)
+        os.fchmod(fd, 0o666 & ~_umask())  # mkstemp makes 0600; outputs are ordinary files
+        with os.fdopen(fd, "wb") as handle:
+            fd = -1
+            handle.write(data)
+            handle.flush()
+            os.fsync(handle.fileno())
+        name, tmp = tmp, ""
+        return name
+    except OSError as exc:
+        raise RenderError(f"{path}: cannot write: {exc.strerror or exc}") from None
+    finally:
+        if fd >= 0:
+            os.close(fd)
+        if tmp and os.path.exists(tmp):
+            os.unlink(tmp)

@@ -336,6 +336,8 @@ def _scene_meshes(path: Path, where: str, split: bool
     # stay apart here: trimesh hangs them under their node with random frame names, and they
     # are grouped back by that parent node below.
     try:
+        if path.stat().st_size == 0:  # some parsers fail on it with an obscure IndexError
+            raise ModelError(f"{where}: no triangle mesh with faces in the file")
         scene = trimesh.load_scene(str(path), file_type=ext[1:], **kwargs)
         node_names = _gltf_node_names(path) if gltf else {}
         parents = scene.graph.transforms.parents

@@ -1,0 +1,139 @@
+"""`h2s build` end to end: output files, determinism, book bookmarks (pipeline.py)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from h2s_print.cli import main
+
+from conftest import CONFIGS
+
+pypdf = pytest.importorskip("pypdf")
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    """``main(argv)`` and its captured (status, stdout, stderr)."""
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def tutorial_copy(folder: Path, source: str = "camera.yaml", *, name: str | None = None,
+                  n_views: int | None = 1, levels: tuple[str, ...] | None = ("master",),
+                  **changes: Any) -> Path:
+    """A copy of ``configs/<source>`` in ``folder`` with its model path made absolute, only its
+    first ``n_views`` views and the given ``levels`` (None: keep all), and top-level keys
+    replaced by ``changes`` (a key ``solver`` merges into the existing mapping)."""
+    data = yaml.safe_load((CONFIGS / source).read_text())
+    model = data["model"]
+    if isinstance(model, str):
+        model = {"path": model}
+    model["path"] = str((CONFIGS / model["path"]).resolve())
+    data["model"] = model
+    if n_views is not None:
+        data["views"] = data["views"][:n_views]
+    if levels is not None:
+        data["levels"] = list(levels)
+    for key, value in changes.items():
+        if key == "solver":
+            data["solver"] = {**data.get("solver", {}), **value}
+        else:
+            data[key] = value
+    path = folder / f"{name or Path(source).stem}.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False))
+    return path
+
+
+def without_seconds(path: Path) -> dict:
+    """plan.json without ``selection.seconds`` (measured wall time, the one varying field)."""
+    doc = json.loads(path.read_text())
+    del doc["selection"]["seconds"]
+    return doc
+
+
+def files_under(folder: Path) -> dict[str, bytes]:
+    """Relative path -> bytes of every output file (the plan cache excluded)."""
+    return {p.relative_to(folder).as_posix(): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file() and ".h2s-cache" not in p.relative_to(folder).parts}
+
+
+@pytest.fixture(scope="module")
+def camera_builds(tmp_path_factory):
+    """configs/camera.yaml built twice without the cache, into two folders."""
+    outs = []
+    for k in range(2):
+        out = tmp_path_factory.mktemp(f"camera{k}")
+        assert main(["-q", "build", str(CONFIGS / "camera.yaml"), "-o", str(out),
+                     "--no-cache"]) == 0
+        outs.append(out)
+    return outs
+
+
+def test_camera_build_writes_one_pdf_per_view_and_level_and_plan_json(camera_builds):
+    out = camera_builds[0]
+    cfg = yaml.safe_load((CONFIGS / "camera.yaml").read_text())
+    expected = {f"camera/camera-{v['name']}-{lv}.pdf" for v in cfg["views"] for lv in cfg["levels"]}
+    expected.add("camera/plan.json")
+    # 2 views x 3 levels = 6 PDFs, plus plan.json
+    assert set(files_under(out)) == expected and len(expected) == 2 * 3 + 1
+    plan = json.loads((out / "camera" / "plan.json").read_text())
+    assert [(v["name"], v["level"]) for v in plan["views"]] == [
+        (v["name"], lv) for v in cfg["views"] for lv in cfg["levels"]]
+    for name in expected - {"camera/plan.json"}:
+        assert (out / name).read_bytes().startswith(b"%PDF-")
+    assert not list(out.rglob("*.part")), "no temporary files left behind"
+
+
+def test_same_config_built_twice_gives_identical_files(camera_builds):
+    a, b = (files_under(out) for out in camera_builds)
+    assert a.keys() == b.keys()
+    for name in a:
+        if name.endswith(".pdf"):
+            assert a[name] == b[name], f"{name} differs between two builds"
+    pa, pb = (without_seconds(out / "camera" / "plan.json") for out in camera_builds)
+    assert pa == pb
+
+
+def test_book_has_bookmarks_for_every_tutorial_view_and_level(tmp_path, capsys):
+    cam = tutorial_copy(tmp_path, "camera.yaml", n_views=2, levels=("novice", "master"))
+    mix = tutorial_copy(tmp_path, "mixer.yaml", n_views=1, levels=("apprentice",))
+    book = tmp_path / "small.yaml"
+    book.write_text(yaml.safe_dump({"title": "Two objects", "tutorials": [cam.name, mix.name]}))
+    code, _, err = run(capsys, "build", str(book), "-o", str(tmp_path / "out"))
+    assert code == 0, err
+    reader = pypdf.PdfReader(tmp_path / "out" / "small" / "small.pdf")
+
+    def tree(items, depth=0, out=None):
+        out = [] if out is None else out
+        for item in items:
+            if isinstance(item, list):
+                tree(item, depth + 1, out)
+            else:
+                out.append((depth, item.title))
+        return out
+
+    marks = tree(reader.outline)
+    cam_cfg, mix_cfg = (yaml.safe_load(p.read_text()) for p in (cam, mix))
+    top = [t for d, t in marks if d == 0]
+    assert cam_cfg["title"] in top and mix_cfg["title"] in top
+    # every (tutorial, view, level) appears as a nested path tutorial > view > level
+    for cfg in (cam_cfg, mix_cfg):
+        start = next(i for i, (d, t) in enumerate(marks) if d == 0 and t == cfg["title"])
+        end = next((i for i in range(start + 1, len(marks)) if marks[i][0] == 0), len(marks))
+        inside = marks[start:end]
+        for view in cfg["views"]:
+            vi = next(i for i, (d, t) in enumerate(inside) if d == 1 and t == view["name"])
+            vend = next((i for i in range(vi + 1, len(inside)) if inside[i][0] <= 1),
+                        len(inside))
+            levels = {t.lower() for d, t in inside[vi:vend] if d == 2}
+            for level in cfg["levels"]:
+                assert level in levels, (cfg["title"], view["name"], level)
+    # 2 views x 2 levels + 1 x 1 = 5 workbooks, each with its plan.json folder
+    assert {p.name for p in (tmp_path / "out" / "small").iterdir()} == {
+        "small.pdf", "camera", "mixer"}
+    assert "book: " in err and "pages, 5 workbooks" in err
