@@ -10,15 +10,16 @@ exactly its size in points.
 
 from __future__ import annotations
 
+import functools
 import io
 import logging
 from pathlib import Path
-from typing import Sequence
+from typing import Callable, Sequence
 from xml.sax.saxutils import escape
 
 from .errors import RenderError
 from .files import write_bytes_atomic
-from .layout import COLOURS, PT_MM, Circle, Page, Polyline, Rect, Text
+from .layout import COLOURS, PT_MM, Circle, Page, Polyline, Rect, Text, text_width_mm
 
 log = logging.getLogger(__name__)
 
@@ -152,11 +153,16 @@ def _svg_colour(name: str | None) -> str:
     return f"rgb({round(r * 255)},{round(g * 255)},{round(b * 255)})"
 
 
-def render_svg(page: Page) -> str:
+def render_svg(page: Page, *, measure: Callable[[Text], float] | None = None) -> str:
     """One page as a standalone SVG (size in mm, ``viewBox`` in mm, y flipped to point down).
 
     Every :class:`~h2s_print.layout.Polyline` becomes one ``<polyline>`` (or ``<polygon>`` when
     closed), every text one ``<text>``; a white background ``<rect>`` comes first.
+
+    The layout measured text in Helvetica: each ``<text>`` carries that width as
+    ``textLength``.  ``measure`` (text item -> width in mm in the font the rasteriser will
+    really use) makes each text also scaled horizontally to that width, for rasterisers that
+    ignore ``textLength`` (cairosvg).
     """
     w, h = page.width_mm, page.height_mm
     out = [
@@ -180,10 +186,22 @@ def render_svg(page: Page) -> str:
                 continue
             weight = ' font-weight="bold"' if item.font.endswith("Bold") else ""
             style = ' font-style="italic"' if item.font.endswith("Oblique") else ""
-            out.append(f'<text x="{_num(item.x_mm)}" y="{_num(h - item.y_mm)}" '
+            want = text_width_mm(item.string, item.size_pt, item.font)
+            fit = ""
+            if measure is not None:
+                got = measure(item)
+                if got > 0 and abs(want / got - 1) > 1e-3:
+                    x, y = _num(item.x_mm), _num(h - item.y_mm)
+                    fit = (f' transform="translate({x} {y}) scale({want / got:.4f} 1) '
+                           f'translate(-{x} -{y})"')
+            out.append(f'<text x="{_num(item.x_mm)}" y="{_num(h - item.y_mm)}"{fit} '
                        f'font-family="Helvetica, Arial, sans-serif" '
                        f'font-size="{_num(item.size_pt * PT_MM)}"{weight}{style} '
-                       f'text-anchor="{item.anchor}" fill="{_svg_colour(item.colour)}">'
+                       f'text-anchor="{item.anchor}" fill="{_svg_colour(item.colour)}" '
+                       # the layout measured the text in Helvetica; a viewer without it
+                       # (cairosvg falls back to wider fonts) is told to keep that width
+                       f'textLength="{_num(want)}" '
+                       f'lengthAdjust="spacingAndGlyphs">'
                        f'{escape(item.string)}</text>')
         elif isinstance(item, Rect):
             out.append(f'<rect x="{_num(item.x_mm)}" y="{_num(h - item.y_mm - item.h_mm)}" '
@@ -206,4 +224,26 @@ def render_png(page: Page, dpi: float = 150.0) -> bytes:
 
     if not dpi > 0:
         raise RenderError(f"png dpi must be positive, got {dpi}")
-    return cairosvg.svg2png(bytestring=render_svg(page).encode("utf-8"), dpi=dpi)
+    svg = render_svg(page, measure=_cairo_width_mm)
+    return cairosvg.svg2png(bytestring=svg.encode("utf-8"), dpi=dpi)
+
+
+def _cairo_width_mm(item: Text) -> float:
+    """Width of a text item in the font cairo really picks for "Helvetica" (fontconfig may
+    substitute a wider face), mm; measured the way cairosvg selects it."""
+    import cairocffi as cairo
+
+    ctx = _cairo_context()
+    slant = cairo.FONT_SLANT_ITALIC if item.font.endswith("Oblique") else cairo.FONT_SLANT_NORMAL
+    weight = cairo.FONT_WEIGHT_BOLD if item.font.endswith("Bold") else cairo.FONT_WEIGHT_NORMAL
+    ctx.select_font_face("Helvetica", slant, weight)
+    # measured at 100 units and scaled: at a few units cairo rounds (hints) each advance
+    ctx.set_font_size(100.0)
+    return float(ctx.text_extents(item.string)[4]) * item.size_pt * PT_MM / 100.0
+
+
+@functools.lru_cache(maxsize=1)
+def _cairo_context():
+    import cairocffi as cairo
+
+    return cairo.Context(cairo.ImageSurface(cairo.FORMAT_ARGB32, 1, 1))

@@ -212,3 +212,18 @@ def test_reportlab_and_cairosvg_stay_in_render():
     names |= {(n.module or "").split(".")[0] for n in ast.walk(ast.parse(src))
               if isinstance(n, ast.ImportFrom)}
     assert not names & {"reportlab", "cairosvg", "pypdf", "pymupdf"}
+
+
+def test_svg_text_keeps_the_layout_width_in_a_substituted_font(novice):
+    _, pages, _ = novice
+    page = pages[2]
+    texts = [it for it in page.items if isinstance(it, L.Text) and it.string]
+    # a rasteriser whose font is twice as wide as Helvetica: every text is squeezed to half
+    svg = R.render_svg(page, measure=lambda it: 2 * L.text_width_mm(it.string, it.size_pt, it.font))
+    assert svg.count("scale(0.5000 1)") == len(texts)
+    # every text states its Helvetica width for viewers that honour textLength
+    first = texts[0]
+    width = L.text_width_mm(first.string, first.size_pt, first.font)
+    assert f'textLength="{R._num(width)}"' in R.render_svg(page)
+    # measured the way cairosvg picks its font, the real fallback font is rescaled too
+    assert R._cairo_width_mm(first) > 0
