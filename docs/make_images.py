@@ -1,0 +1,51 @@
+"""Render one image of each page kind into docs/ (shown in the README).
+
+Run: ``python3 docs/make_images.py`` (from the repository root).  Uses the project's own
+renderer (``render_png``, through cairosvg) on the camera example, front-left view, novice.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from h2s_print.config import load_tutorial  # noqa: E402
+from h2s_print.layout import lay_out_book, lay_out_workbook  # noqa: E402
+from h2s_print.pipeline import plan_tutorial  # noqa: E402
+from h2s_print.render import render_png  # noqa: E402
+
+DPI = 60
+
+
+def main() -> None:
+    tutorial = load_tutorial(ROOT / "configs" / "camera.yaml")
+    result = plan_tutorial(tutorial)
+    view = result.views[0]  # front-left, novice: one step per page
+    pages = lay_out_workbook(tutorial.title, view, tutorial.paper, view_label=view.name,
+                             final=result.finals[0])
+    steps = [p for p in pages if p.kind == "steps"]
+    first = {}  # first step page of each step kind
+    for page, step in zip(steps, view.steps):
+        first.setdefault(step.kind, page)
+    wanted = {
+        "page-cover": next(p for p in pages if p.kind == "cover"),
+        "page-primer": next(p for p in pages if p.kind == "primer"),
+        "page-step-anchored": steps[1],
+        "page-step-ellipse": first["ellipse"],
+        "page-step-contour": first["contour"],
+        "page-final": next(p for p in pages if p.kind == "final"),
+        "page-sheet": next(p for p in pages if p.kind == "sheet"),
+        "page-contents": lay_out_book("Sketching everyday objects",
+                                      [(f"{tutorial.title} > {view.name} > {view.level}", pages)])[1],
+    }
+    for name, page in wanted.items():
+        path = ROOT / "docs" / f"{name}.png"
+        path.write_bytes(render_png(page, dpi=DPI))
+        print(path.relative_to(ROOT))
+
+
+if __name__ == "__main__":
+    main()
