@@ -865,6 +865,8 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
     pages = []
     legend_keys = ["earlier", "earlier_hidden", "ink", "new", "guide_new", "guide_reused",
                    "guide_idle", "vanishing", "corner"]
+    if not any(step.guides for step in plan.steps):  # master and basic: no guide styles to explain
+        legend_keys = [k for k in legend_keys if not k.startswith("guide_")]
     margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
     for first in range(0, n, per):
         idx = list(range(first, min(n, first + per)))

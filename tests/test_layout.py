@@ -513,3 +513,19 @@ def test_clip_and_wrap():
     assert all(L.text_width_mm(s, 10) <= 50.0 for s in lines) and len(lines) > 3
     # Helvetica 'M' is 833/1000 em: at 10 pt, 8.33 pt = 2.9386 mm
     assert L.text_width_mm("M", 10) == pytest.approx(8.33 * 25.4 / 72)
+
+
+def test_key_explains_guides_only_when_the_workbook_has_guides():
+    from h2s_print.templates import lookup
+
+    legend = lookup("pages", "legend")
+
+    def key_texts(guides: bool) -> set[str]:
+        plan = make_plan("apprentice", (A4L.width_mm, A4L.height_mm), guides=guides)
+        pages = L.lay_out_workbook("T", plan, A4L, view_label="v")
+        return {it.string for pg in pages if pg.kind == "steps" for it in texts(pg)}
+
+    with_guides, without = key_texts(True), key_texts(False)
+    assert legend["guide_new"] in with_guides and legend["guide_reused"] in with_guides
+    assert legend["guide_new"] not in without and legend["guide_reused"] not in without
+    assert legend["earlier"] in without  # the rest of the key stays
