@@ -34,7 +34,14 @@ Decisions where the brief is silent (documented here, kept in one place):
   the arrow's tip and its offset from the nearest green corner ("603 mm left, 48 mm down from
   the top-left green corner"), so it can be found with a ruler on a larger surface.  Labels
   that could collide (horizon, ground plane) take the first of a few positions that overlaps
-  no other text.
+  no other text.  Vanishing points are named as the step texts name them (:func:`vp_names`:
+  "right vanishing point", "vanishing point above" ..., by :func:`h2s_print.project.vp_side`
+  from the sheet's centre), on the sheet and in the step panels; part names print with
+  spaces ("shutter_button" -> "shutter button").  Horizon and arrow tips come from
+  :func:`h2s_print.project.horizon_mm` and :func:`h2s_print.project.edge_exit`.
+* **Control condition** (level ``basic``): no primer page, a cover without guide or erasing
+  wording (``cover.how_basic``), a key without guide styles (no step has guides), and the
+  level is shown as plain "basic", so the control workbook never mentions guides.
 * **Book outline**: a workbook label ``"Camera > front-left > novice"`` (parts joined by
   :data:`OUTLINE_SEP`) gives outline levels tutorial > view > level; the workbook's own
   bookmarks (cover, primer, steps ...) sit one level below.
@@ -53,7 +60,7 @@ from . import templates
 from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct
 from .errors import RenderError
-from .project import make_camera
+from .project import edge_exit, horizon_mm, make_camera, vp_side
 from .types import Guide, Stroke, ViewPlan
 
 log = logging.getLogger(__name__)
@@ -536,7 +543,7 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
     box = _bbox(_stroke_points(strokes))
     items: list[Item] = []
     style = STYLES["vanishing"]
-    axes = templates.lookup("pages", "axes")
+    names = vp_names(plan)
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
         if vp.at_infinity or vp.xy_mm is None:
             continue
@@ -558,7 +565,7 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
         r = view.rect
         if r[0] <= p[0] <= r[2] and r[1] <= p[1] <= r[3]:
             items.append(Circle(p[0], p[1], 0.9, "black", 0.25, None, "vp"))
-            label = _t("sheet.vp", axis=axes[vp.axis])
+            label = _t("sheet.vp", vp=names[vp.axis])
             anchor = "end" if p[0] > (r[0] + r[2]) / 2 else "start"
             dx = -1.6 if anchor == "end" else 1.6
             ty = p[1] + 1.2 if p[1] + 4 < r[3] else p[1] - 3.2
@@ -828,7 +835,8 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
                             role="how")
     items += how_h
     top -= 2
-    for line in templates.lookup("pages", "cover.how"):
+    how_key = "cover.how_basic" if plan.level == "basic" else "cover.how"
+    for line in templates.lookup("pages", how_key):
         para, top = _paragraph(x0 + 4, top, text_w - 4, plain_text(line), 9.5, role="how")
         items.append(Circle(x0 + 1.2, para[0].y_mm + 1.1, 0.6, None, 0.0, "black", "bullet"))
         items += para
@@ -958,6 +966,8 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
 
     Pages: cover, primer, step pages (1 step per page for novices, else 2), the finished
     drawing, and the calibrated drawing sheet (:func:`lay_out_sheet`, at ``plan.paper_mm``).
+    Level ``basic`` (a study's control condition) gets no primer and a cover whose "how to
+    use" text (``cover.how_basic``) says nothing of guides.
 
     Args:
         title: the tutorial's title (config ``title``).
@@ -983,7 +993,8 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
     level = _level_name(plan.level)
     right = _t("step.header", title=title, view=view_label, level=level)
     pages: list[Page] = [_cover_page(f, title, plan, view_label, final)]
-    pages.append(_primer_page(f, title, right, primer_diagrams()))
+    if plan.level != "basic":  # the control condition gets no How2Sketch constructions
+        pages.append(_primer_page(f, title, right, primer_diagrams()))
     pages += _step_pages(f, title, plan, view_label)
     pages.append(_final_page(f, title, plan, view_label, final))
     pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label))
@@ -994,21 +1005,42 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
 # ----------------------------------------------------------------------------- calibrated sheet
 
 
-def horizon_line(plan: ViewPlan) -> tuple[float, float, float] | None:
-    """The horizon as ``(a, b, c)`` with ``a x + b y + c = 0`` on the sheet (mm), ``(a, b)`` unit.
+def vp_names(plan: ViewPlan) -> dict[int, str]:
+    """How the sheet and the step panels name each vanishing point, by axis.
 
-    It is the vanishing line of horizontal planes: ``l = M^-T (0, 0, 1)`` with ``M`` the left
-    3x3 block of ``projection_mm``.  ``None`` when the camera looks straight down or up.
+    The words of the step instructions: :func:`h2s_print.project.vp_side` seen from the sheet's
+    centre gives "right/left vanishing point" or "vanishing point above/below"
+    (``sheet.vp_names.<side>``); when two VPs share a side both add their edges ("... of the
+    left-right edges", ``<side>_of``, edges from ``templates/steps.yaml`` ``edges``).  A VP at
+    infinity is named by its edges (``sheet.vp_names.infinite``).
     """
-    m = np.asarray(plan.camera.projection_mm, dtype=float)[:, :3]
-    try:
-        line = np.linalg.solve(m.T, np.array([0.0, 0.0, 1.0]))
-    except np.linalg.LinAlgError:
+    centre = (plan.paper_mm[0] / 2.0, plan.paper_mm[1] / 2.0)
+    edges = templates.lookup("steps", "edges")
+    sides = {vp.axis: vp_side(vp, centre) for vp in plan.vanishing_points}
+    names: dict[int, str] = {}
+    for axis, side in sides.items():
+        if side is None:
+            names[axis] = _t("sheet.vp_names.infinite", edges=edges[axis])
+        elif sum(1 for other in sides.values() if other == side) > 1:
+            names[axis] = _t(f"sheet.vp_names.{side}_of", edges=edges[axis])
+        else:
+            names[axis] = _t(f"sheet.vp_names.{side}")
+    return names
+
+
+def _horizon(plan: ViewPlan) -> tuple[float, float, float] | None:
+    """:func:`h2s_print.project.horizon_mm` as ``(a, b, c)``: ``a x + b y + c = 0`` on the
+    sheet (mm) with ``(a, b)`` a unit normal; ``None`` when the horizon is at infinity."""
+    ends = horizon_mm(plan.camera)
+    if ends is None:
         return None
-    n = math.hypot(line[0], line[1])
-    if n < 1e-12 * max(1.0, abs(line[2])):
+    (x0, y0), (x1, y1) = ends
+    a, b = y0 - y1, x1 - x0  # normal of the direction (x1 - x0, y1 - y0)
+    n = math.hypot(a, b)
+    if not n > 0.0:
         return None
-    return (float(line[0] / n), float(line[1] / n), float(line[2] / n))
+    a, b = a / n, b / n
+    return (a, b, -(a * x0 + b * y0))
 
 
 def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
@@ -1031,23 +1063,6 @@ def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
         part = step.part or (step.strokes[0].part if step.strokes else "")
         return part, tuple((float(x), float(y)) for x, y in proj)
     return None
-
-
-def _edge_exit(centre: Pt, direction: Pt, box: Box2) -> tuple[Pt, str]:
-    """Where the ray from ``centre`` along ``direction`` leaves ``box``, and which edge."""
-    dx, dy = direction
-    best = (math.inf, "right")
-    x0, y0, x1, y1 = box
-    if dx > 1e-12:
-        best = min(best, ((x1 - centre[0]) / dx, "right"))
-    if dx < -1e-12:
-        best = min(best, ((x0 - centre[0]) / dx, "left"))
-    if dy > 1e-12:
-        best = min(best, ((y1 - centre[1]) / dy, "top"))
-    if dy < -1e-12:
-        best = min(best, ((y0 - centre[1]) / dy, "bottom"))
-    t, edge = best
-    return (centre[0] + t * dx, centre[1] + t * dy), edge
 
 
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2) -> bool:
@@ -1096,9 +1111,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     m = float(margin_mm)
     if m < MIN_MARGIN_MM or min(w, h) < 2 * m + 20:
         raise RenderError(f"drawing sheet {w:g} x {h:g} mm: margin {m:g} mm does not fit")
+    if tuple(map(float, plan.camera.paper_mm)) != (w, h):
+        raise RenderError(f"view {plan.name!r}: camera sheet {plan.camera.paper_mm} mm is not "
+                          f"the plan's paper {plan.paper_mm} mm")
     title = plain_text(title)
     frame = _frame_box((w, h), m)
-    axes = templates.lookup("pages", "axes")
     items: list[Item] = []
     items.append(Rect(frame[0], frame[1], frame[2] - frame[0], frame[3] - frame[1], "lightgrey",
                       0.2, None, "frame"))
@@ -1129,7 +1146,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     # Labels placed after the VP labels, at the first option that collides with no text.
     deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
     # Horizon.
-    hl = horizon_line(plan)
+    hl = _horizon(plan)
     if hl is not None:
         a, b, c = hl
         # Two far points on the line, then clip to the frame.
@@ -1181,7 +1198,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     if quad:
         for piece in clip_polyline(quad, frame, closed=True):
             items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False, "ground"))
-        label = _t("sheet.ground", part=plain_text(part or "?"))
+        label = _t("sheet.ground", part=plain_text((part or "?").replace("_", " ")))
         low = min(quad, key=lambda p: (p[1], p[0]))
         high = max(quad, key=lambda p: (p[1], p[0]))
         lft = min(quad, key=lambda p: (p[0], p[1]))
@@ -1191,12 +1208,14 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                                               (high[0], high[1] + 1.5, "middle"),
                                               (rgt[0] + 2.0, rgt[1] - 1.0, "start"),
                                               (lft[0] - 2.0, lft[1] - 1.0, "end"))])
-    # Vanishing points.
-    centre = ((frame[0] + frame[2]) / 2, (frame[1] + frame[3]) / 2)
-    inner = (frame[0] + 2, frame[1] + 2, frame[2] - 2, frame[3] - 2)
+    # Vanishing points, named as the step texts name them.
+    centre = (w / 2, h / 2)
+    inner = (m + 2.0, m + 2.0, w - m - 2.0, h - m - 2.0)  # arrow tips end 2 mm inside the frame
+    names = vp_names(plan)
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
-        name = axes[vp.axis]
-        if not vp.at_infinity and vp.xy_mm is not None:
+        name = names[vp.axis]
+        finite = not vp.at_infinity and vp.xy_mm is not None
+        if finite:
             v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
             if 0.0 <= v[0] <= w and 0.0 <= v[1] <= h:
                 items.append(Circle(v[0], v[1], 1.2, "black", 0.3, None, "vp"))
@@ -1204,33 +1223,30 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 items.append(Polyline(((v[0], v[1] - 3), (v[0], v[1] + 3)), "black", 0.2, (), False, "vp"))
                 anchor = "end" if v[0] > w / 2 else "start"
                 dx = -2.5 if anchor == "end" else 2.5
-                items.append(Text(v[0] + dx, v[1] + 2.0, _t("sheet.vp", axis=name), 8, "Helvetica-Bold",
+                items.append(Text(v[0] + dx, v[1] + 2.0, _t("sheet.vp", vp=name), 8, "Helvetica-Bold",
                                   anchor, "black", "vp_label"))
                 continue
-            direction = (v[0] - centre[0], v[1] - centre[1])
-            label_fn = lambda tip: _t("sheet.vp_far", axis=name, distance=f"{math.dist(tip, v):.0f}")
             detail = _corner_offset(v, frame)
         else:
-            direction = tuple(vp.direction_mm)
-            label_fn = lambda tip: _t("sheet.vp_infinite", axis=name)
             detail = ""
         origin = centre
-        if not vp.at_infinity and vp.xy_mm is not None and hl is not None:
+        if finite and hl is not None:
             # A VP on the horizon (two-point views): run the arrow along the horizon, from the
             # frame centre's foot on it, so the arrow lies on the line the VP sits on.
             a, b, c = hl
-            v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
             off = a * centre[0] + b * centre[1] + c
             foot = (centre[0] - a * off, centre[1] - b * off)
             if abs(a * v[0] + b * v[1] + c) < 1e-6 * (1.0 + math.hypot(*v)) and \
                     inner[0] < foot[0] < inner[2] and inner[1] < foot[1] < inner[3]:
                 origin = foot
-                direction = (v[0] - foot[0], v[1] - foot[1])
-        if math.hypot(*direction) < 1e-12:
+        # The arrow's tip: where the ray toward the VP leaves ``inner``.
+        exit_ = edge_exit(plan.camera, vp, inset_mm=m + 2.0, origin_mm=origin)
+        if exit_ is None:
             continue
-        tip, edge = _edge_exit(origin, direction, inner)
+        tip, edge, direction = exit_.point_mm, exit_.side, exit_.direction_mm
+        label = (_t("sheet.vp_far", vp=name, distance=f"{exit_.distance_mm:.0f}") if finite
+                 else _t("sheet.vp_infinite", vp=name))
         items += _arrow(tip, direction, 12.0, "black", 0.35, "vp_arrow")
-        label = label_fn(tip)
         tw = text_width_mm(label, 8, "Helvetica-Bold")
         n = math.hypot(*direction)
         ux, uy = direction[0] / n, direction[1] / n

@@ -54,11 +54,13 @@ FRAME_MM = (36.0, 24.0)
 
 @dataclass(frozen=True, slots=True)
 class EdgeExit:
-    """Where the line from the sheet centre toward a vanishing point leaves the sheet.
+    """Where the line from the sheet centre (or another origin) toward a vanishing point leaves
+    the sheet.
 
     Attributes:
         point_mm: the exit point on the sheet border (or the inset border), mm.
-        direction_mm: unit direction from the sheet centre toward the vanishing point.
+        direction_mm: unit direction from the origin (default the sheet centre) toward the
+            vanishing point.
         distance_mm: distance from ``point_mm`` to the vanishing point, mm (``inf`` at infinity).
         side: ``left``, ``right``, ``bottom`` or ``top``: the border crossed.
     """
@@ -251,14 +253,48 @@ def horizon_mm(camera: Camera) -> tuple[tuple[float, float], tuple[float, float]
     return ((float(xs[0]), 0.0), (float(xs[1]), float(h)))
 
 
-def edge_exit(camera: Camera, vp: VanishingPoint, *, inset_mm: float = 0.0) -> EdgeExit | None:
-    """Where the line from the sheet centre toward ``vp`` leaves the sheet.
+def vp_side(vp: VanishingPoint, centre_mm: Any) -> str | None:
+    """Where ``vp`` lies seen from ``centre_mm``, the word the texts name it by.
+
+    ``right`` or ``left`` when it is at least as far sideways as up or down
+    (``|dx| >= |dy|``, ``dx > 0`` is right), else ``above`` or ``below`` (``dy > 0`` is
+    above); ``dx``, ``dy`` are sheet mm from ``centre_mm`` to the point.  One rule for every
+    text that names a vanishing point (drawing sheet labels, step instructions).
+
+    Args:
+        vp: the vanishing point.
+        centre_mm: ``(x, y)`` sheet mm it is seen from (e.g. the sheet's centre).
+
+    Returns:
+        ``"left"``, ``"right"``, ``"above"`` or ``"below"``; ``None`` at infinity.
+    """
+    if vp.at_infinity or vp.xy_mm is None:
+        return None
+    dx = float(vp.xy_mm[0]) - float(centre_mm[0])
+    dy = float(vp.xy_mm[1]) - float(centre_mm[1])
+    if abs(dx) >= abs(dy):
+        return "right" if dx > 0 else "left"
+    return "above" if dy > 0 else "below"
+
+
+def edge_exit(camera: Camera, vp: VanishingPoint, *, inset_mm: float = 0.0,
+              origin_mm: Any = None) -> EdgeExit | None:
+    """Where the line from the sheet centre (or ``origin_mm``) toward ``vp`` leaves the sheet.
 
     For an off-sheet vanishing point the layout draws a mark there with "VP is ``distance_mm``
     this way".  ``inset_mm`` shrinks the sheet rectangle on every side (e.g. to the margins).
 
+    Args:
+        camera: gives the sheet size ``paper_mm``.
+        vp: the vanishing point.
+        inset_mm: the rectangle is the sheet shrunk by this much on every side, mm.
+        origin_mm: ``(x, y)`` sheet mm the ray starts from (it should lie inside the
+            rectangle); default the sheet's centre.  Toward a finite VP the ray runs from
+            the origin to the VP; at infinity along ``vp.direction_mm``.
+
     Returns:
-        The exit, or ``None`` when ``vp`` is finite and lies inside the (inset) rectangle.
+        The exit, or ``None`` when ``vp`` is finite and lies inside the (inset) rectangle, or
+        when a finite ``vp`` coincides with ``origin_mm`` (no direction).
     """
     w, h = camera.paper_mm
     x0, y0, x1, y1 = inset_mm, inset_mm, w - inset_mm, h - inset_mm
@@ -267,7 +303,17 @@ def edge_exit(camera: Camera, vp: VanishingPoint, *, inset_mm: float = 0.0) -> E
     centre = np.array([w / 2, h / 2])
     if vp.xy_mm is not None and x0 <= vp.xy_mm[0] <= x1 and y0 <= vp.xy_mm[1] <= y1:
         return None
-    dx, dy = vp.direction_mm
+    if origin_mm is None:
+        dx, dy = vp.direction_mm
+    else:
+        centre = np.array([float(origin_mm[0]), float(origin_mm[1])])
+        if vp.xy_mm is None:
+            dx, dy = vp.direction_mm
+        else:
+            toward = np.array(vp.xy_mm, dtype=float) - centre
+            if not float(np.hypot(*toward)) > 0.0:
+                return None
+            dx, dy = _unit(toward)
     hits = []
     if dx > 0:
         hits.append(((x1 - centre[0]) / dx, "right"))

@@ -305,7 +305,9 @@ def test_vp_inside_a_panel_is_marked():
     s = paper.w_mm / plan.paper_mm[0]
     mark, = [c for c in page.items if isinstance(c, L.Circle) and c.role == "vp"]
     assert (mark.cx_mm, mark.cy_mm) == pytest.approx((paper.x_mm + 250 * s, paper.y_mm + 120 * s))
-    assert [t.string for t in texts(page, "vp_label")] == ["VP x"]
+    # named as the step texts name it: from the sheet centre (148.5, 105) the VP is
+    # dx = 101.5, dy = 15 away, |dx| >= |dy| and dx > 0 -> "right"
+    assert [t.string for t in texts(page, "vp_label")] == ["right vanishing point"]
 
 
 def test_estimated_time():
@@ -321,6 +323,23 @@ def test_basic_level_is_just_steps_without_guides():
     plan, pages = workbook("basic", guides=False)
     assert all(not p.role.startswith("guide") for page in pages for p in polylines(page))
     assert any("basic" in t.string for t in texts(pages[0]))
+
+
+GUIDE_WORDS = ("guide", "erase", "blue", "primer", "construction")
+
+
+def test_basic_workbook_carries_no_how2sketch_material():
+    """The control condition of a study: no primer page and no word about guides anywhere."""
+    _, basic = workbook("basic", guides=False)
+    # cover + ceil(5 steps / 2) = 3 step pages + final + sheet = 6: no primer
+    assert [p.kind for p in basic] == ["cover", "steps", "steps", "steps", "final", "sheet"]
+    words = " ".join(t.string for p in basic for t in texts(p)).lower()
+    assert [w for w in GUIDE_WORDS if w in words] == []
+    assert "primer" not in [b.title.lower() for p in basic for b in p.bookmarks]
+    # ... while the How2Sketch workbook on the same plan has all of them (the test can fail)
+    _, novice = workbook("novice")
+    words = " ".join(t.string for p in novice for t in texts(p)).lower()
+    assert [w for w in GUIDE_WORDS if w in words] == list(GUIDE_WORDS)
 
 
 # ----------------------------------------------------------------------------- primer
@@ -413,13 +432,17 @@ def test_sheet_horizon_and_far_vanishing_points():
         assert not on_sheet  # this camera puts both far off the paper
     # each finite VP: an arrow whose tip's distance to the VP is printed
     tips = [a.points_mm[1] for a in arrows[0::2]]
+    # VP x at (-591, 150), VP y at (511, 150): from the centre (148.5, 105) each is farther
+    # sideways than up, x to the left and y to the right
+    names = {0: "left vanishing point", 1: "right vanishing point"}
+    assert [vp.axis for vp in finite] == [0, 1]
     for vp, tip, label in zip(finite, tips, labels):
-        assert label == f"VP {'xyz'[vp.axis]}: {math.dist(tip, vp.xy_mm):.0f} mm"
+        assert label == f"{names[vp.axis]}: {math.dist(tip, vp.xy_mm):.0f} mm"
         # the arrow points at the VP
         d = np.subtract(vp.xy_mm, tip)
         shaft = np.subtract(tip, arrows[0::2][tips.index(tip)].points_mm[0])
         assert np.dot(d, shaft) / np.linalg.norm(d) / np.linalg.norm(shaft) > 0.99
-    assert "VP z: at infinity (lines stay parallel)" in labels
+    assert "vertical edges: vanishing point at infinity (lines stay parallel)" in labels
     # the offset from the nearest green corner locates the VP exactly (to the printed mm)
     detail = [t.string for t in texts(page, "vp_detail")]
     vx = [vp for vp in finite if vp.axis == 0][0].xy_mm
@@ -465,10 +488,49 @@ def test_sheet_text_does_not_overlap():
 def test_horizon_agrees_with_the_project_stage():
     from h2s_print.project import horizon_mm
 
-    for plan in _project_plans():
-        a, b, c = L.horizon_line(plan)
-        for x, y in horizon_mm(plan.camera):
-            assert abs(a * x + b * y + c) < 1e-6
+    drawn = 0
+    for plan in list(_project_plans()) + [make_plan(el_deg=5.0)]:
+        page = L.lay_out_sheet("t", plan)
+        (x0, y0), (x1, y1) = horizon_mm(plan.camera)
+        for line in polylines(page, "horizon"):
+            drawn += 1
+            for x, y in line.points_mm:  # on the project stage's line through (x0,y0), (x1,y1)
+                cross = (x1 - x0) * (y - y0) - (y1 - y0) * (x - x0)
+                assert abs(cross) / math.dist((x0, y0), (x1, y1)) < 1e-6
+    assert drawn >= 1  # el 5 deg: the horizon crosses the frame
+
+
+def _with_vps(plan, *points):
+    """``plan`` with finite VPs of axes 0, 1, ... at ``points`` (direction from the centre)."""
+    c = (plan.paper_mm[0] / 2, plan.paper_mm[1] / 2)
+    vps = tuple(VanishingPoint(i, False, p, ((p[0] - c[0]) / math.dist(p, c),
+                                             (p[1] - c[1]) / math.dist(p, c)))
+                for i, p in enumerate(points))
+    return ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, vps, plan.steps)
+
+
+def test_sheet_names_vanishing_points_like_the_steps():
+    plan = make_plan()
+    # centre (148.5, 105): (148.5, 900) is 795 mm above -> "above"; (-500, 100) -> "left"
+    page = L.lay_out_sheet("t", _with_vps(plan, (148.5, 900.0), (-500.0, 100.0)))
+    names = [t.string.split(":")[0] for t in texts(page, "vp_label")]
+    assert names == ["vanishing point above", "left vanishing point"]
+    # two VPs right of the centre share the side: each adds its edges (steps.yaml `edges`)
+    page = L.lay_out_sheet("t", _with_vps(plan, (700.0, 150.0), (900.0, 60.0)))
+    names = [t.string.split(":")[0] for t in texts(page, "vp_label")]
+    assert names == ["right vanishing point of the left-right edges",
+                     "right vanishing point of the front-back edges"]
+    assert not any("VP" in t.string for t in texts(page))
+
+
+def test_sheet_writes_part_names_with_spaces():
+    from dataclasses import replace
+
+    plan = make_plan()
+    steps = (replace(plan.steps[0], part="shutter_button"),) + plan.steps[1:]
+    plan = ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, plan.vanishing_points, steps)
+    label, = texts(L.lay_out_sheet("t", plan), "ground_label")
+    assert label.string == "ground plane of the shutter button"
 
 
 def test_vp_on_the_sheet_is_marked_where_it_is():

@@ -13,7 +13,7 @@ import pytest
 
 from h2s_print.config import PaperSpec, ViewSpec
 from h2s_print.errors import ConfigError, H2SError
-from h2s_print.project import (VP_FAR_SHEETS, edge_exit, horizon_mm, make_camera,
+from h2s_print.project import (VP_FAR_SHEETS, edge_exit, horizon_mm, make_camera, vp_side,
                                vanishing_point, vanishing_points)
 
 A4 = PaperSpec()  # A4 landscape, 12 mm margins: 297 x 210 mm sheet
@@ -390,3 +390,39 @@ def test_real_models_frame_inside_the_margins(shared_models, name):
                                                                         abs_tol=1e-9)
         assert (cam.depth(pts) > 0).all()
         assert vanishing_point(cam, 2).at_infinity == (persp == "two-point")
+
+
+def test_edge_exit_from_another_origin():
+    from h2s_print.types import VanishingPoint
+
+    cam = make_camera(ViewSpec("v"), _box_corners((0, 0, 0), (1, 1, 1)), A4)
+    # VP at (1000, 150) seen from (148.5, 150) on its horizontal: the ray runs along y = 150
+    # and leaves the 12 mm inset at x = 285; 1000 - 285 = 715 mm to go
+    vp = VanishingPoint(0, False, (1000.0, 150.0), (0.998, 0.05))
+    ex = edge_exit(cam, vp, inset_mm=12, origin_mm=(148.5, 150.0))
+    assert ex.point_mm == (285.0, 150.0) and ex.side == "right"
+    assert ex.direction_mm == (1.0, 0.0) and ex.distance_mm == pytest.approx(715.0)
+    # from the centre (148.5, 105) instead: toward (1000, 150), exit x = 285 at
+    # y = 105 + 45 * (285 - 148.5) / (1000 - 148.5) = 112.214...
+    ex = edge_exit(cam, vp, inset_mm=12, origin_mm=(148.5, 105.0))
+    assert ex.point_mm[0] == pytest.approx(285.0)
+    assert ex.point_mm[1] == pytest.approx(105 + 45 * 136.5 / 851.5)
+    # at infinity the ray follows the VP's direction from the origin: (0, 1) -> the top
+    inf = VanishingPoint(2, True, None, (0.0, 1.0))
+    ex = edge_exit(cam, inf, inset_mm=12, origin_mm=(100.0, 50.0))
+    assert ex.point_mm == (100.0, 198.0) and ex.side == "top" and ex.distance_mm == math.inf
+
+
+def test_vp_side_names_where_the_point_lies():
+    from h2s_print.types import VanishingPoint
+
+    def vp(x, y):
+        return VanishingPoint(0, False, (x, y), (1.0, 0.0))
+
+    c = (148.5, 105.0)
+    assert vp_side(vp(600.0, 300.0), c) == "right"  # dx 451.5 >= dy 195
+    assert vp_side(vp(-300.0, 0.0), c) == "left"  # dx -448.5
+    assert vp_side(vp(200.0, 900.0), c) == "above"  # dy 795 > dx 51.5
+    assert vp_side(vp(100.0, -700.0), c) == "below"
+    assert vp_side(vp(248.5, 5.0), c) == "right"  # |dx| = |dy| = 100: sideways wins
+    assert vp_side(VanishingPoint(2, True, None, (0.0, 1.0)), c) is None
