@@ -150,11 +150,27 @@ def load_plan(folder: Path, key: str) -> Any | None:
     return plan
 
 
+#: Selection statuses worth keeping: proven optimal, or the best found within
+#: ``solver.time_limit_s`` (a longer limit changes the key).  Anything else (interrupted,
+#: memory or node limit ...) is solved again next time.
+CACHEABLE_STATUSES = ("optimal", "time_limit")
+
+
+def cacheable(plan: Any) -> bool:
+    """Whether ``plan``'s selection may be cached (its status is in ``CACHEABLE_STATUSES``)."""
+    return plan.selection.status in CACHEABLE_STATUSES
+
+
 def store_plan(folder: Path, key: str, plan: Any) -> Path | None:
-    """Write ``plan`` as entry ``key`` (atomically); ``None`` when it cannot be written.
+    """Write ``plan`` as entry ``key`` (atomically); ``None`` when it cannot be written or is
+    not :func:`cacheable`.
 
     A cache that cannot be written is not an error: the build goes on without it.
     """
+    if not cacheable(plan):
+        log.info("plan not cached: its selection ended with SCIP status %s",
+                 plan.selection.status)
+        return None
     payload = pickle.dumps((key, plan), protocol=pickle.HIGHEST_PROTOCOL)
     data = MAGIC + hashlib.sha256(payload).digest() + payload
     try:

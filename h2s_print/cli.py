@@ -274,11 +274,15 @@ def _table(rows: list[tuple[str, ...]]) -> list[str]:
 
 def _plan(args: argparse.Namespace, console: _Console) -> int:
     from .cache import cache_folder
-    from .config import load_tutorial
+    from .config import BookConfig, load_config
+    from .errors import ConfigError
     from .files import check_writable, write_many_atomic
     from .pipeline import plan_bytes, plan_tutorial
 
-    tutorial = load_tutorial(args.config)
+    tutorial = load_config(args.config)
+    if isinstance(tutorial, BookConfig):
+        raise ConfigError(f"{args.config.name}: is a book config; `h2s plan` takes one tutorial "
+                          f"config (use `h2s build` for books)")
     check_writable(args.output)
     n = len(tutorial.views) * len(tutorial.levels)
     console.start(1 + n)
@@ -299,13 +303,13 @@ def _plan(args: argparse.Namespace, console: _Console) -> int:
 
 def _build(args: argparse.Namespace, console: _Console) -> int:
     from .config import load_config
-    from .pipeline import STEP_FILE, build, work_units
+    from .pipeline import STEP_FILE_RE, build, work_units
 
     console.start(work_units(load_config(args.config)))
     written = build(args.config, args.output, jobs=args.jobs, cache=not args.no_cache,
                     progress=console.progress)
     console.clear()
-    steps = [p for p in written if p.name.startswith(STEP_FILE.split("{")[0])]
+    steps = [p for p in written if STEP_FILE_RE.fullmatch(p.name)]
     for path in written:
         if path not in steps:
             log.info("wrote %s", path)

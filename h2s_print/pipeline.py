@@ -10,9 +10,10 @@ the output names, computes every output's bytes first and then writes them all t
 * book config ``book.yaml``: ``DIR/book/book.pdf`` (all workbooks, contents page, bookmarks)
   and ``DIR/book/<tutorial>/plan.json`` per tutorial;
 * with ``output: {svg: true, png: true}`` in a tutorial's config, each step page of each
-  workbook also as ``<tutorial folder>/<view>-<level>/step-NN.svg`` / ``.png`` (``NN`` counts
-  step pages from 01; stale ``step-NN`` files of an earlier, longer export in that folder are
-  removed);
+  workbook also as ``<tutorial folder>/<view>-<level>/step-NN.svg`` / ``.png`` named by the
+  steps on it: ``step-03.svg`` for a page with step 3 alone, ``steps-03-04.svg`` for a page
+  with steps 3 and 4 (numbers as in plan.json, from 01); stale step files of an earlier export
+  in that folder are removed;
 * ``DIR/.h2s-cache/``: solved plans (:mod:`h2s_print.cache`).
 
 All or nothing: a build computes every file's bytes before writing any, so a user error or
@@ -39,15 +40,18 @@ from typing import Any, Callable, Sequence
 
 from .config import BookConfig, TutorialConfig, load_config
 from .errors import ConfigError, H2SError, ModelError, SelectionError
-from .files import check_writable, dumps_json, write_json_atomic, write_many_atomic
+from .files import check_writable, dumps_json, write_many_atomic
 from .plan import Plan, build_plan, plan_json
 from .types import Stroke, ViewPlan
 
 log = logging.getLogger(__name__)
 
-#: Exported step pages: ``step-01.svg`` ...
+#: An exported step page holding one step (``step-03.svg``) ...
 STEP_FILE = "step-{:02d}.{}"
-_STEP_RE = re.compile(r"step-\d+\.(svg|png)")
+#: ... or several, first and last (``steps-03-04.svg``).
+STEPS_FILE = "steps-{:02d}-{:02d}.{}"
+#: The name of any exported step page (both forms).
+STEP_FILE_RE = re.compile(r"(step-\d+|steps-\d+-\d+)\.(svg|png)")
 
 
 # ----------------------------------------------------------------------------- progress
@@ -169,9 +173,15 @@ def _plan_text(plan: Plan, cached: bool, seconds: float, tutorial: TutorialConfi
     text = (f"plan {where}: {len(plan.model.parts)} parts, {len(plan.candidates)} candidates, "
             f"SCIP {sel.status}")
     if not sel.optimal:
-        text += (f" - NOT proven optimal (gap {sel.gap:.3g}, solver.time_limit_s "
-                 f"{tutorial.solver.time_limit_s:g})")
+        text += f" - NOT proven optimal (gap {sel.gap:.3g}{_limit_note(sel, tutorial)})"
     return text
+
+
+def _limit_note(sel: Any, tutorial: TutorialConfig) -> str:
+    """``, solver.time_limit_s 60`` when the time limit stopped SCIP, else nothing."""
+    if sel.status == "time_limit":
+        return f", solver.time_limit_s {tutorial.solver.time_limit_s:g}"
+    return ""
 
 
 def get_plan(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
@@ -200,9 +210,9 @@ def get_plan(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
             cache.store_plan(cache_dir, key, plan)
     sel = plan.selection
     if cached and not sel.optimal:  # a fresh solve's warning comes from the select stage
-        log.warning("%s: selection NOT proven optimal (SCIP status %s, gap %.3g) - time limit "
-                    "solver.time_limit_s = %g s reached; using the best selection found",
-                    tutorial.name, sel.status, sel.gap, tutorial.solver.time_limit_s)
+        log.warning("%s: selection NOT proven optimal (SCIP status %s, gap %.3g%s); using the "
+                    "best selection found", tutorial.name, sel.status, sel.gap,
+                    _limit_note(sel, tutorial))
     progress(Event(tutorial.name, "plan",
                    _plan_text(plan, cached, time.perf_counter() - start, tutorial), 1, True))
     return plan, cached
@@ -242,11 +252,6 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     return TutorialResult(tutorial, plan, tuple(views), tuple(finals), cached)
 
 
-def write_plan(result: TutorialResult, folder: Path) -> Path:
-    """Write ``folder/plan.json`` atomically; returns its path."""
-    return write_json_atomic(Path(folder) / "plan.json", plan_json(result.plan, result.views))
-
-
 def plan_bytes(result: TutorialResult) -> bytes:
     """The bytes of the tutorial's ``plan.json``."""
     return dumps_json(plan_json(result.plan, result.views)).encode("utf-8")
@@ -278,6 +283,30 @@ def _workbook_pages(result: TutorialResult, index: int):
                                 final=result.finals[index])
     except H2SError as exc:
         raise in_config(exc, tutorial.path, f"views[{_view_index(tutorial, index)}]") from None
+
+
+def step_ranges(n_steps: int, n_pages: int) -> list[tuple[int, int]]:
+    """The ``(first, last)`` step numbers (from 1) on each of ``n_pages`` step pages.
+
+    The layout puts the steps on the pages in order, the same number on each page but the
+    last, so a page holds ``ceil(n_steps / n_pages)`` steps (1 at novice, 2 above).
+
+    Raises:
+        RuntimeError: ``n_pages`` cannot hold ``n_steps`` that way (a bug in the layout).
+    """
+    if n_pages == 0:
+        if n_steps:
+            raise RuntimeError(f"{n_steps} steps but no step pages")
+        return []
+    per = -(-n_steps // n_pages)
+    if n_steps < n_pages or -(-n_steps // per) != n_pages:
+        raise RuntimeError(f"{n_steps} steps do not fill {n_pages} step pages evenly")
+    return [(k * per + 1, min(n_steps, (k + 1) * per)) for k in range(n_pages)]
+
+
+def step_file_name(first: int, last: int, ext: str) -> str:
+    """``step-03.svg`` (one step) or ``steps-03-04.svg`` (steps 3 to 4)."""
+    return STEP_FILE.format(first, ext) if first == last else STEPS_FILE.format(first, last, ext)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -327,12 +356,12 @@ def build_tutorial(tutorial: TutorialConfig, folder: Path, *, pdfs: bool,
         for vp, pages in zip(result.views, workbooks):
             sub = folder / f"{vp.name}-{vp.level}"
             steps = [p for p in pages if p.kind == "steps"]
-            for k, page in enumerate(steps, start=1):
+            for (first, last), page in zip(step_ranges(len(vp.steps), len(steps)), steps):
                 if out.svg:
-                    files.append((sub / STEP_FILE.format(k, "svg"),
+                    files.append((sub / step_file_name(first, last, "svg"),
                                   render_svg(page).encode("utf-8")))
                 if out.png:
-                    files.append((sub / STEP_FILE.format(k, "png"),
+                    files.append((sub / step_file_name(first, last, "png"),
                                   render_png(page, out.png_dpi)))
             n_steps += len(steps)
             progress(Event(name, "export", f"exported {vp.name}/{vp.level}: "
@@ -521,11 +550,11 @@ def _remove_stale_steps(files: Sequence[Path]) -> None:
     """Delete ``step-NN.svg/png`` left in an export folder by an earlier, longer export."""
     by_folder: dict[Path, set[str]] = {}
     for path in files:
-        if _STEP_RE.fullmatch(path.name):
+        if STEP_FILE_RE.fullmatch(path.name):
             by_folder.setdefault(path.parent, set()).add(path.name)
     for folder, names in by_folder.items():
         for old in folder.iterdir():
-            if _STEP_RE.fullmatch(old.name) and old.name not in names:
+            if STEP_FILE_RE.fullmatch(old.name) and old.name not in names:
                 try:
                     old.unlink()
                 except OSError as exc:

@@ -231,17 +231,26 @@ def solve_selection_model(model: SelectionModel) -> Selection:
 
     Raises:
         SelectionError: SCIP found no solution (infeasible, or no solution in time).
+        KeyboardInterrupt: Ctrl-C during the solve (SCIP status ``userinterrupt``).
     """
     scip, settings = model.scip, model.settings
     scip.setParam("limits/time", float(settings.time_limit_s))
     scip.setParam("randomization/randomseedshift", 0)
+    # Ctrl-C: SCIP's handler stops the solve at once with status "userinterrupt" (with
+    # catchctrlc off, Python would only see the signal after the whole solve, measured 26 s
+    # late); that is not a selection, so it becomes the KeyboardInterrupt Ctrl-C means.
+    scip.setParam("misc/catchctrlc", True)
     scip.optimize()
     raw = scip.getStatus()
+    if raw == "userinterrupt":
+        raise KeyboardInterrupt("SCIP solve interrupted (Ctrl-C)")
     status = _STATUS.get(raw, raw)
     if scip.getNSols() == 0:
+        hint = ("; raise solver.time_limit_s or lower solver.depth" if status == "time_limit"
+                else "")
         raise SelectionError(f"SCIP ended {status!r} with no valid selection "
-                             f"({len(model.pick)} candidates, formulation {model.formulation}); "
-                             f"raise solver.time_limit_s or lower solver.depth")
+                             f"({len(model.pick)} candidates, formulation {model.formulation})"
+                             f"{hint}")
     best = scip.getBestSol()
     chosen = tuple(sorted(cid for cid, var in model.pick.items()
                           if scip.getSolVal(best, var) > 0.5))

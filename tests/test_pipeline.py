@@ -137,3 +137,63 @@ def test_book_has_bookmarks_for_every_tutorial_view_and_level(tmp_path, capsys):
     assert {p.name for p in (tmp_path / "out" / "small").iterdir()} == {
         "small.pdf", "camera", "mixer"}
     assert "book: " in err and "pages, 5 workbooks" in err
+
+
+# ----------------------------------------------------------------------------- step files
+
+
+def test_step_ranges_and_file_names():
+    from h2s_print.pipeline import step_file_name, step_ranges
+
+    # novice: one step a page; apprentice/master: two, the last page one when odd
+    assert step_ranges(3, 3) == [(1, 1), (2, 2), (3, 3)]
+    assert step_ranges(5, 3) == [(1, 2), (3, 4), (5, 5)]  # ceil(5 / 3) = 2 a page
+    assert step_ranges(4, 2) == [(1, 2), (3, 4)]
+    assert step_ranges(0, 0) == []
+    for n_steps, n_pages in ((1, 2), (4, 3), (2, 0)):  # no even split: a layout bug
+        with pytest.raises(RuntimeError):
+            step_ranges(n_steps, n_pages)
+    assert step_file_name(3, 3, "svg") == "step-03.svg"
+    assert step_file_name(3, 4, "png") == "steps-03-04.png"
+    assert step_file_name(9, 10, "svg") == "steps-09-10.svg"
+
+
+# ----------------------------------------------------------------------------- plan cache
+
+
+def _fake_plan(status: str, gap: float = 0.0) -> Any:
+    from types import SimpleNamespace
+
+    sel = SimpleNamespace(status=status, optimal=status == "optimal", gap=gap)
+    return SimpleNamespace(selection=sel, model=SimpleNamespace(parts=()), candidates=())
+
+
+@pytest.mark.parametrize("status, kept", [("optimal", True), ("time_limit", True),
+                                          ("interrupted", False), ("memory_limit", False),
+                                          ("gap_limit", False)])
+def test_only_optimal_or_time_limited_plans_are_cached(tmp_path, status, kept):
+    from h2s_print import cache
+
+    written = cache.store_plan(tmp_path, "k" * 64, _fake_plan(status))
+    assert (written is not None) == kept
+    assert cache.entry_path(tmp_path, "k" * 64).exists() == kept
+
+
+@pytest.mark.parametrize("status", ["time_limit", "memory_limit"])
+def test_not_optimal_plan_names_its_real_status(tmp_path, monkeypatch, status):
+    from h2s_print import cache
+    from h2s_print.config import load_tutorial
+    from h2s_print.pipeline import get_plan
+
+    tutorial = load_tutorial(tutorial_copy(tmp_path, name="c", solver={"time_limit_s": 7}))
+    monkeypatch.setattr("h2s_print.pipeline.build_plan",
+                        lambda model, solver: _fake_plan(status, gap=0.25))
+    events = []
+    plan, cached = get_plan(tutorial, cache_dir=tmp_path / "cache", progress=events.append)
+    assert not cached and plan.selection.status == status
+    text = events[-1].text
+    assert f"SCIP {status} - NOT proven optimal (gap 0.25" in text
+    # only the time limit is blamed on solver.time_limit_s (7 s here)
+    assert ("solver.time_limit_s 7" in text) == (status == "time_limit")
+    key = cache.plan_key(tutorial.model, tutorial.solver)
+    assert cache.entry_path(tmp_path / "cache", key).exists() == (status == "time_limit")

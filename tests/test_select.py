@@ -259,8 +259,36 @@ def test_errors():
     a = Candidate("a<b#1", "a", ((0, 0, 0), (1, 1, 1)), False, (), 1, (), (0, 1, 2), 1.0, 0.0)
     b = Candidate("b<a#1", "b", ((5, 0, 0), (6, 1, 1)), False, (), 1, (), (0, 1, 2), 1.0, 0.0)
     r = Relation("a", "b", "bisector", 0, 0.1, {"preserved": True})
-    with pytest.raises(SelectionError, match="no valid selection"):
+    with pytest.raises(SelectionError, match="no valid selection") as info:
         select_candidates([a, b], [r], SETTINGS)
+    assert "time_limit_s" not in str(info.value)  # infeasible: more time would not help
+
+
+def test_interrupted_solve_raises_keyboard_interrupt():
+    # Ctrl-C in SCIP ends the solve with status "userinterrupt" and the start solution still
+    # loaded: that must stop h2s like any Ctrl-C, not become a selection.
+    from h2s_print.select import solve_selection_model
+
+    class Interrupted:
+        def __init__(self, scip):
+            self.scip, self.params = scip, {}
+
+        def setParam(self, name, value):
+            self.params[name] = value
+            self.scip.setParam(name, value)
+
+        def getStatus(self):
+            return "userinterrupt"
+
+        def __getattr__(self, name):
+            return getattr(self.scip, name)
+
+    _, rels, cands = synthetic(0)
+    model = build_selection_model(cands, rels, SETTINGS)
+    model.scip = fake = Interrupted(model.scip)
+    with pytest.raises(KeyboardInterrupt):
+        solve_selection_model(model)
+    assert fake.params["misc/catchctrlc"] is True  # SCIP stops at once on Ctrl-C
 
 
 def test_plane_on_body_is_selected_flat():
