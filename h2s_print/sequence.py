@@ -11,10 +11,14 @@ DESIGN.md §2.6 and paper §5.  Public verbs:
 What a tutorial contains, in order
 ----------------------------------
 1. **Primitive steps** (kind ``primitive``), one per part, in *drawing order*: the topological
-   order of the anchoring graph of the selected candidates (parents first); among the parts
-   whose parents are all drawn, the one whose selected box centre is closest to the camera
-   position comes first (ties: part name).  Each step's guides are built in 3D from its
-   anchors: the ratio's construction (:func:`h2s_print.constructions.construct`) on the
+   order of the anchoring graph of the selected candidates (parents first).  The first is the
+   biggest root that is not a ``custom`` primitive (when there is one).  Then, among the parts
+   whose parents are all drawn, anchored parts come before free ones (no anchor), the one
+   whose selected box centre is closest to the camera position first (ties: part name); a
+   free part waits until one of the parts whose box touches or overlaps its box is drawn (it
+   rests on or sits in it; when free parts only wait on each other the biggest starts).  Each
+   step's guides are built in 3D from its anchors: the ratio's construction
+   (:func:`h2s_print.constructions.construct`) on the
    parent's *selected* box face named by the anchor; when the anchor leaves the side open
    (``face_side is None``) the view picks, among the parent's faces parallel to the anchored
    axis, the front-facing one with the largest projected area.  Alignment lines (role
@@ -23,17 +27,25 @@ What a tutorial contains, in order
    child touches the face's plane, otherwise along the face normal from the result line's end
    nearest the child (and, if needed, across to the child).  An anchor on a parent that is
    flat along the anchored axis (``face_normal == axis``) needs no construction: the text says
-   "in the plane of ..." and no guide is drawn.
+   "in the plane of ..." and no guide is drawn.  A frustum parent's box faces are not drawn
+   (its scaffold is the tapered solid), so a construction on it first draws the box around it
+   (the box edges its scaffold leaves out, role ``vanishing``, "Draw the box around ...").
+   Each distinct result line gets one sentence; one an earlier step described is referred to
+   ("Use the quarter lines of the body's front face from step 4").
 2. **Ellipse steps** (kind ``ellipse``) for cylinders, in drawing order: both end faces of the
    selected box (front-facing first), each with its diagonals (role ``construction``), the two
    lines through the centre toward the vanishing points (role ``guide``) and the exact
    projection of the inscribed circle (:func:`h2s_print.constructions.ellipse_on_face`).
    Frusta here are rectangular: no ellipse.
-3. **Contour steps** (kind ``contour``), one per part in drawing order: the contours of the
-   *adjusted* mesh (the part mesh mapped from its fitted primitive box to its selected box,
-   :func:`h2s_print.contours.adjust_part`), hidden by the parts drawn so far plus itself
-   (:func:`h2s_print.contours.contour_steps`).  A part with nothing visible at that point gets
-   no contour step.
+3. **Contour steps** (kind ``contour``), one per part, *front to back*: a part that hides some
+   of another part's lines (rays from the camera position to samples of that part's own
+   visible contours) comes before it; among the parts nothing left hides, the nearest box
+   centre first (ties: name); parts that hide each other (interpenetrating) start with the one
+   the rest hide least.  Each step draws the part's lines of the finished drawing
+   (:func:`final_strokes`: the *adjusted* mesh, :func:`h2s_print.contours.adjust_part`, hidden
+   by all parts), which in that order are the lines hidden by the parts drawn so far plus
+   itself; so the steps add up to exactly the finished drawing.  A part with nothing visible
+   gets no contour step.  Closed loops under ``TINY_LOOP_MM`` on the sheet are dropped.
 
 Decisions where the brief is open (kept here, in one place)
 -----------------------------------------------------------
@@ -91,7 +103,7 @@ import numpy as np
 from . import templates
 from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
-from .contours import adjust_part, contour_steps, final_contours
+from .contours import adjust_part, final_contours, trace_contours
 from .errors import SelectionError
 from .project import make_camera, vanishing_points
 from .ratios import entry_for
@@ -101,6 +113,9 @@ log = logging.getLogger(__name__)
 
 #: Lines whose end points agree within this fraction of the model's diagonal are one guide.
 MERGE_TOL = 1e-6
+#: Closed contour loops smaller than this on the sheet (largest side of their extent, mm) are
+#: dropped from the contour steps and the final drawing: a merged screw head draws a dot.
+TINY_LOOP_MM = 1.0
 #: Roles shown at each level.
 LEVEL_ROLES: dict[str, frozenset[str]] = {
     "novice": frozenset({"construction", "guide", "vanishing"}),
@@ -151,6 +166,21 @@ def _map_points(points: np.ndarray, from_box: Box, to_box: Box) -> np.ndarray:
         else:
             out[:, ax] = points[:, ax] - flo + tlo
     return out
+
+
+def _same_segment(a: Any, b: Any, p: Any, q: Any, tol: float) -> bool:
+    """True when segment ``a-b`` is segment ``p-q`` up to endpoint order, within ``tol``."""
+    a, b, p, q = (np.asarray(x, dtype=float) for x in (a, b, p, q))
+    return bool((np.abs(a - p).max() <= tol and np.abs(b - q).max() <= tol)
+                or (np.abs(a - q).max() <= tol and np.abs(b - p).max() <= tol))
+
+
+def _tiny_loop(mm: np.ndarray) -> bool:
+    """True for a closed polyline whose extent on the sheet is under ``TINY_LOOP_MM``."""
+    if len(mm) < 3 or float(np.abs(mm[0] - mm[-1]).max()) > 1e-6 * max(1.0, float(np.abs(mm).max())):
+        return False
+    ext = mm.max(axis=0) - mm.min(axis=0)
+    return float(max(ext[0], ext[1])) < TINY_LOOP_MM
 
 
 def _volume(box: Box) -> float:
@@ -343,6 +373,18 @@ def _stroke(kind: str, part: str, points: np.ndarray, camera: Camera) -> Stroke:
                   tuple((float(q[0]), float(q[1])) for q in mm))
 
 
+def _contour_strokes(cs: Any, camera: Camera) -> tuple[Stroke, ...]:
+    """A contour set's polylines as strokes, without tiny closed loops (``TINY_LOOP_MM``)."""
+    out = []
+    for pl in cs.polylines3d:
+        if len(pl) < 2:
+            continue
+        st = _stroke("contour", cs.part, np.asarray(pl, dtype=float), camera)
+        if not _tiny_loop(np.asarray(st.points_mm, dtype=float)):
+            out.append(st)
+    return tuple(out)
+
+
 def _solid(primitive: Any, box: Box) -> tuple[np.ndarray, list[tuple[int, ...]], bool]:
     """Vertices, faces (index tuples) and "flat" flag of the scaffold of ``primitive`` drawn in
     ``box`` (the fitted box mapped to ``box`` per axis for frusta)."""
@@ -407,8 +449,7 @@ def _scaffold(part: str, primitive: Any, box: Box, camera: Camera, tol: float) -
         a, b = pts[i], pts[j]
         if float(np.linalg.norm(b - a)) <= tol:
             continue
-        if any((np.abs(a - p).max() <= tol and np.abs(b - q).max() <= tol)
-               or (np.abs(a - q).max() <= tol and np.abs(b - p).max() <= tol) for p, q in seen):
+        if any(_same_segment(a, b, p, q, tol) for p, q in seen):
             continue
         seen.append((a, b))
         strokes.append(_stroke("scaffold" if visible else "scaffold_hidden", part,
@@ -507,11 +548,40 @@ def _construct_sentence(words: _Words, anchor: Any, parent: str, face: Face, con
               dim=words.dim(axis), vp=vp)
 
 
-def _construct_sentences(words: _Words, built: Sequence[tuple[Any, str, Face, Any]]) -> list[str]:
-    """One sentence per construction, pairs on one face said together: the two edges of an
-    alignment, quarters (1/4 and 3/4), thirds (1/3 and 2/3)."""
-    groups: dict[tuple, list[tuple[Any, str, Face, Any]]] = {}
+def _reuse_sentence(words: _Words, anchor: Any, parent: str, face: Face, step: int) -> str:
+    entry = entry_for(anchor.ratio)
+    what = _raw("primitive.reuse_what")
+    key = entry.name if entry.name in what else "extend"
+    return _t("primitive.construct.reuse", parent=parent, face=words.face(face.normal, face.end),
+              step=step, what=what[key].format(
+                  edge=words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi")))
+
+
+def _construct_sentences(words: _Words, built: Sequence[tuple[Any, str, Face, Any]],
+                         described: list[tuple[Vec3, Vec3, int, Any]], step: int,
+                         tol: float) -> list[str]:
+    """One sentence per distinct result line, pairs on one face said together: the two edges
+    of an alignment, quarters (1/4 and 3/4), thirds (1/3 and 2/3).  A result line an earlier
+    step described (``described``: its end points and step number, appended to here) is
+    referred to ("Use the ... from step 4"); a result line already said in this step is not
+    said again."""
+    out: list[str] = []
+    fresh: list[tuple[Any, str, Face, Any]] = []
+    mine: list[tuple[Vec3, Vec3, Any]] = []
     for item in built:
+        anchor, parent, face, con = item
+        a, b = con.result.start, con.result.end
+        old = [(n, it) for p, q, n, it in described if _same_segment(a, b, p, q, tol)]
+        if old and old[0][0] < step:  # named as the step that said it
+            n, (oa, op, of, _) = old[0]
+            out.append(_reuse_sentence(words, oa, op, of, n))
+        elif not any(_same_segment(a, b, p, q, tol) for p, q, _ in mine):
+            mine.append((a, b, item))
+            fresh.append(item)
+    described.extend((p, q, step, it) for p, q, it in mine)
+    reuse, out = out, []
+    groups: dict[tuple, list[tuple[Any, str, Face, Any]]] = {}
+    for item in fresh:
         anchor, parent, face, _ = item
         groups.setdefault((anchor.parent, face.normal, face.end, anchor.axis), []).append(item)
     out: list[str] = []
@@ -535,7 +605,7 @@ def _construct_sentences(words: _Words, built: Sequence[tuple[Any, str, Face, An
         for a, p, f, c in items:
             if entry_for(a.ratio).name not in done:
                 out.append(_construct_sentence(words, a, p, f, c))
-    return out
+    return _unique(reuse) + out
 
 
 def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
@@ -555,6 +625,88 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
     amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
     return _t("primitive.position.extend", side=side, about=ab, amount=amount, parent=parent,
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+def _touching(part: str, chosen: dict[str, Any], tol: float) -> list[str]:
+    """Other parts whose selected box touches or overlaps ``part``'s (closed boxes, within
+    ``tol``): the parts a free part rests on or sits in."""
+    lo, hi = (np.asarray(x, dtype=float) for x in chosen[part].box)
+    out = []
+    for other, c in sorted(chosen.items()):
+        if other == part:
+            continue
+        olo, ohi = (np.asarray(x, dtype=float) for x in c.box)
+        if all(lo[a] <= ohi[a] + tol and olo[a] <= hi[a] + tol for a in range(3)):
+            out.append(other)
+    return out
+
+
+#: Samples per part's own visible contours for the occlusion test of the contour order.
+_OCCLUSION_SAMPLES = 160
+
+
+def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSettings,
+                   eps: float) -> np.ndarray:
+    """``h[i, j]``: how many samples of part ``j``'s own visible contours (hidden by itself only)
+    part ``i`` hides, by rays from the camera position (hits nearer than the sample by ``eps``)."""
+    n = len(parts)
+    own = [trace_contours([p], camera, crease_deg=settings.crease_deg,
+                          suggestive=settings.suggestive)[0] for p in parts]
+    samples: list[np.ndarray] = []
+    for cs in own:
+        pts = [np.asarray(pl, dtype=float) for pl in cs.polylines3d if len(pl) >= 2]
+        allp = np.vstack(pts) if pts else np.zeros((0, 3))
+        if len(allp) > _OCCLUSION_SAMPLES:
+            allp = allp[np.linspace(0, len(allp) - 1, _OCCLUSION_SAMPLES).round().astype(int)]
+        samples.append(allp)
+    cam = np.asarray(camera.position, dtype=float)
+    proj = [camera.project(np.asarray(p.vertices, dtype=float)) for p in parts]
+    h = np.zeros((n, n), dtype=int)
+    meshes = [p.to_trimesh() for p in parts]
+    for j in range(n):
+        if not len(samples[j]):
+            continue
+        sj = camera.project(samples[j])
+        d = samples[j] - cam
+        dist = np.linalg.norm(d, axis=1)
+        dirs = d / dist[:, None]
+        for i in range(n):
+            if i == j or not len(proj[i]):
+                continue
+            lo, hi = proj[i].min(axis=0), proj[i].max(axis=0)
+            inside = np.all((sj >= lo) & (sj <= hi), axis=1)
+            if not inside.any():
+                continue
+            idx = np.flatnonzero(inside)
+            loc, ray, _ = meshes[i].ray.intersects_location(
+                np.repeat(cam[None, :], len(idx), axis=0), dirs[idx], multiple_hits=True)
+            if not len(ray):
+                continue
+            hit = np.linalg.norm(loc - cam, axis=1) < dist[idx][ray] - eps
+            h[i, j] = len(np.unique(ray[hit]))
+    return h
+
+
+def _front_to_back(parts: Sequence[Part], camera: Camera, settings: SequenceSettings,
+                   eps: float) -> list[str]:
+    """Contour order: a part that hides some of another's lines comes before it; among the
+    parts nothing left hides, the nearest (box centre to the camera position), then the name;
+    mutual hiding (a cycle) starts with the part the remaining ones hide least."""
+    names = [p.name for p in parts]
+    h = _hidden_counts(parts, camera, settings, eps)
+    cam = np.asarray(camera.position, dtype=float)
+    dist = {}
+    for p in parts:
+        lo, hi = p.box
+        dist[p.name] = float(np.linalg.norm((np.asarray(lo) + np.asarray(hi)) / 2 - cam))
+    left = list(range(len(parts)))
+    out: list[str] = []
+    while left:
+        blocked = {j: int(sum(h[i, j] for i in left if i != j)) for j in left}
+        nxt = min(left, key=lambda j: (blocked[j], dist[names[j]], names[j]))
+        out.append(names[nxt])
+        left.remove(nxt)
+    return out
 
 
 # ----------------------------------------------------------------------------- the view context
@@ -578,12 +730,16 @@ class _Context:
     _basic: tuple[_Draft, ...] | None = None
     _ids: tuple[tuple[tuple[str, str], ...], ...] | None = None
     _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
+    _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
+    _box_steps: dict[str, int] = field(default_factory=dict)
 
     # -------------------------------------------------------------- order and visibility
     def guided_order(self) -> list[str]:
-        """Drawing order: parents first, then closest box centre, then name."""
+        """Drawing order of the primitives (module docstring, "drawing order")."""
         parents = {part: sorted({self.by_id[pid].part for pid in c.parents})
                    for part, c in self.chosen.items()}
+        touch = {part: _touching(part, self.chosen, 100.0 * self.tol)
+                 for part, c in self.chosen.items() if not c.anchors}
         cam = np.asarray(self.camera.position, dtype=float)
         dist = {part: float(np.linalg.norm(np.mean(np.asarray(c.box, dtype=float), axis=0) - cam))
                 for part, c in self.chosen.items()}
@@ -591,25 +747,45 @@ class _Context:
         done: set[str] = set()
         remaining = set(self.chosen)
         while remaining:
-            ready = [p for p in remaining if all(q in done for q in parents[p])]
-            if not ready:
-                raise SelectionError(f"the anchoring graph has a cycle among {sorted(remaining)}")
-            if placed:
-                nxt = min(ready, key=lambda p: (dist[p], p))
-            else:  # the first primitive: the biggest root (the body), as a person would start
-                nxt = min(ready, key=lambda p: (-_volume(self.chosen[p].box), dist[p], p))
+            if placed:  # a free part waits for one of the parts it touches (rests on)
+                ready = [p for p in remaining if all(q in done for q in parents[p])
+                         and (p not in touch or not touch[p] or done & set(touch[p]))]
+            else:
+                ready = [p for p in remaining if not self.chosen[p].anchors]
+            if not ready:  # free parts waiting on each other: the biggest starts
+                ready = [p for p in remaining if p in touch]
+                if not ready:
+                    raise SelectionError(
+                        f"the anchoring graph has a cycle among {sorted(remaining)}")
+                first = True
+            else:
+                first = not placed
+            if not first:
+                nxt = min(ready, key=lambda p: (not self.chosen[p].anchors, dist[p], p))
+            else:  # the first primitive: the biggest fitted root (the body), as a person would
+                # start; also the biggest of free parts waiting on each other
+                nxt = min(ready, key=lambda p: (self.plan.primitive(p).type == "custom",
+                                                -_volume(self.chosen[p].box), dist[p], p))
             placed.append(nxt)
             done.add(nxt)
             remaining.discard(nxt)
         return placed
 
+    def finals(self, parts: dict[str, Part]) -> dict[str, tuple[Stroke, ...]]:
+        """Each part's strokes in the finished drawing (:func:`final_strokes`), by name."""
+        key = "basic" if parts is self.originals else "guided"
+        if key not in self._finals:
+            sets = final_contours([parts[p.name] for p in self.plan.model.parts], self.camera,
+                                  crease_deg=self.settings.crease_deg,
+                                  suggestive=self.settings.suggestive)
+            self._finals[key] = {cs.part: _contour_strokes(cs, self.camera) for cs in sets}
+        return self._finals[key]
+
     def kept(self, parts: dict[str, Part], anchoring: bool) -> set[str]:
         """Parts not left out: visible ones and (``anchoring``) their ancestors."""
         names = [p.name for p in self.plan.model.parts]
-        sets = final_contours([parts[n] for n in names], self.camera,
-                              crease_deg=self.settings.crease_deg,
-                              suggestive=self.settings.suggestive)
-        visible = {cs.part for cs in sets if any(len(pl) >= 2 for pl in cs.polylines3d)}
+        finals = self.finals(parts)
+        visible = {n for n in names if finals[n]}
         keep = set(visible)
         if anchoring:
             stack = list(visible)
@@ -626,7 +802,8 @@ class _Context:
         return keep
 
     # -------------------------------------------------------------- drafts
-    def primitive_draft(self, part: str, first: bool) -> _Draft:
+    def primitive_draft(self, part: str, first: bool, step: int = 0,
+                        described: list[tuple[Vec3, Vec3, int, Any]] | None = None) -> _Draft:
         cand = self.chosen[part]
         prim = self.plan.primitive(part)
         words = self.words
@@ -643,12 +820,21 @@ class _Context:
         flat_sentences: list[str] = []
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
         carried = False
+        box_sentences: list[str] = []
         for anchor in cand.anchors:
             parent = self.by_id[anchor.parent]
             if anchor.face_normal == anchor.axis:
                 flat_sentences.append(_t("primitive.flat", part=part, parent=parent.part,
                                          side=words.side(anchor.axis, anchor.end)))
                 continue
+            around = self.box_around(parent.part)
+            if around:  # constructions on a tapered parent start from its (undrawn) box
+                lines += around
+                seen = (self._box_steps if described is not None else {}).setdefault(
+                    parent.part, step)
+                box_sentences.append(
+                    _t("primitive.box_around", parent=parent.part) if seen == step
+                    else _t("primitive.box_reuse", parent=parent.part, step=seen))
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
             lines += own
@@ -670,13 +856,36 @@ class _Context:
             text = " ".join([_t("primitive.eyeball", part=part, where=where, shape=shape)]
                             + ([by_eye] if by_eye else []))
             return _Draft(part, "primitive", text, True, (), strokes)
-        parts = _unique(_construct_sentences(words, built)) + _unique(flat_sentences)
+        parts = _unique(box_sentences) + _unique(_construct_sentences(words, built, [] if described is None else described,
+                                             step, self.tol)) + _unique(flat_sentences)
         if carried:
             parts.append(_t("primitive.carry", part=part))
         parts.append(_t("primitive.place", part=part, shape=shape))
         if by_eye:
             parts.append(by_eye)
         return _Draft(part, "primitive", " ".join(parts), False, tuple(lines), strokes)
+
+    def box_around(self, part: str) -> list[_Line]:
+        """For a part whose scaffold does not draw its selected box's faces (a frustum), the
+        box edges the scaffold leaves out (role ``vanishing``); else nothing."""
+        prim = self.plan.primitive(part)
+        if prim.type != "frustum":
+            return []
+        box = self.chosen[part].box
+        drawn = [(np.asarray(st.points3d[0]), np.asarray(st.points3d[-1]))
+                 for st in _scaffold(part, prim, box, self.camera, self.tol)]
+        pts = _box_corners(box)
+        out = []
+        for i in range(8):
+            for j in range(i + 1, 8):
+                if bin(i ^ j).count("1") != 1:  # corners i*4 + j*2 + k differ in one axis
+                    continue
+                a, b = pts[i], pts[j]
+                if float(np.abs(b - a).max()) <= self.tol:
+                    continue
+                if not any(_same_segment(a, b, p, q, self.tol) for p, q in drawn):
+                    out.append(_Line("vanishing", _vec(a), _vec(b)))
+        return out
 
     def by_eye_sentence(self, cand: Any) -> str:
         biggest = max(_extent(cand.box, a) for a in range(3))
@@ -713,24 +922,26 @@ class _Context:
                       tuple(strokes))
 
     def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
-        sets = contour_steps([parts[p] for p in order], self.camera,
-                             crease_deg=self.settings.crease_deg,
-                             suggestive=self.settings.suggestive)
+        """Contour steps, front to back (:func:`_front_to_back`); each part's lines are its
+        lines in the finished drawing, so the steps add up to exactly the finished drawing."""
+        finals = self.finals(parts)
+        order = _front_to_back([parts[p] for p in order], self.camera, self.settings,
+                               1e3 * self.tol)
         out: list[_Draft] = []
-        for cs in sets:
-            strokes = tuple(_stroke("contour", cs.part, np.asarray(pl, dtype=float), self.camera)
-                            for pl in cs.polylines3d if len(pl) >= 2)
-            if not strokes:
+        for part in order:
+            if not finals[part]:
                 continue
             key = "contour.first" if not out else "contour.next"
-            out.append(_Draft(cs.part, "contour", _t(key, part=cs.part), False, (), strokes))
+            out.append(_Draft(part, "contour", _t(key, part=part), False, (), finals[part]))
         return out
 
     def guided(self) -> tuple[_Draft, ...]:
         if self._guided is None:
             keep = self.kept(self.adjusted, anchoring=True)
             order = [p for p in self.guided_order() if p in keep]
-            drafts = [self.primitive_draft(p, i == 0) for i, p in enumerate(order)]
+            described: list[tuple[Vec3, Vec3, int, Any]] = []
+            drafts = [self.primitive_draft(p, i == 0, i + 1, described)
+                      for i, p in enumerate(order)]
             drafts += [self.ellipse_draft(p, self.chosen[p].box, False) for p in order
                        if self.plan.primitive(p).type == "cylinder"
                        and self.plan.primitive(p).axis is not None]
@@ -769,9 +980,7 @@ class _Context:
                     a, b = np.asarray(ln.start), np.asarray(ln.end)
                     gid = None
                     for i, (p, q) in enumerate(reg):
-                        if ((np.abs(a - p).max() <= self.tol and np.abs(b - q).max() <= self.tol)
-                                or (np.abs(a - q).max() <= self.tol
-                                    and np.abs(b - p).max() <= self.tol)):
+                        if _same_segment(a, b, p, q, self.tol):
                             gid = f"g{i + 1}"
                             break
                     if gid is None:
@@ -821,11 +1030,7 @@ class _Context:
 def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
     out: list[_Line] = []
     for ln in lines:
-        a, b = np.asarray(ln.start), np.asarray(ln.end)
-        if not any((np.abs(a - np.asarray(o.start)).max() <= tol
-                    and np.abs(b - np.asarray(o.end)).max() <= tol)
-                   or (np.abs(a - np.asarray(o.end)).max() <= tol
-                       and np.abs(b - np.asarray(o.start)).max() <= tol) for o in out):
+        if not any(_same_segment(ln.start, ln.end, o.start, o.end, tol) for o in out):
             out.append(ln)
     return out
 
@@ -902,8 +1107,7 @@ def final_strokes(plan: Any, camera: Camera, settings: SequenceSettings, *,
              else list(_adjusted_parts(plan).values()))
     sets = final_contours(parts, camera, crease_deg=settings.crease_deg,
                           suggestive=settings.suggestive)
-    return tuple(_stroke("contour", cs.part, np.asarray(pl, dtype=float), camera)
-                 for cs in sets for pl in cs.polylines3d if len(pl) >= 2)
+    return tuple(s for cs in sets for s in _contour_strokes(cs, camera))
 
 
 def steps_text(view_plan: ViewPlan) -> str:
