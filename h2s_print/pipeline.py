@@ -230,22 +230,25 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     Raises:
         H2SError: naming the config file and field (``camera.yaml: views[1]: ...``).
     """
-    from .sequence import final_strokes, sequence_view
+    from .sequence import final_strokes, sequence_views
 
     progress = progress or _quiet
     plan, cached = get_plan(tutorial, cache_dir=cache_dir, progress=progress)
     views: list[ViewPlan] = []
     finals: list[tuple[Stroke, ...]] = []
     for i, view in enumerate(tutorial.views):
-        for level in tutorial.levels:
-            try:
-                vp = sequence_view(plan, view, level, tutorial.paper, tutorial.sequence)
-                final = final_strokes(plan, vp.camera, tutorial.sequence, level=level)
-            except H2SError as exc:
-                raise in_config(exc, tutorial.path, f"views[{i}]") from None
+        try:
+            # one call per view: its levels share the camera and the contour work
+            level_plans = sequence_views(plan, view, tutorial.levels, tutorial.paper,
+                                         tutorial.sequence)
+            level_finals = [final_strokes(plan, vp.camera, tutorial.sequence, level=vp.level)
+                            for vp in level_plans]
+        except H2SError as exc:
+            raise in_config(exc, tutorial.path, f"views[{i}]") from None
+        for vp, final in zip(level_plans, level_finals):
             views.append(vp)
             finals.append(final)
-            progress(Event(tutorial.name, "views", f"sequenced {view.name}/{level}: "
+            progress(Event(tutorial.name, "views", f"sequenced {view.name}/{vp.level}: "
                            f"{len(vp.steps)} steps", 1))
     progress(Event(tutorial.name, "views", f"sequenced {_n(len(views), 'workbook')}: "
                    f"{sum(len(v.steps) for v in views)} steps", 0, True))

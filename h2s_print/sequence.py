@@ -1035,15 +1035,7 @@ def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
     return out
 
 
-#: The last view context (plan, view, paper, settings) -> context; the plan is held so its id
-#: cannot be reused while cached.  Levels of one view share it (pure: same inputs, same output).
-_LAST: list[tuple[tuple[Any, ...], _Context]] = []
-
-
 def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSettings) -> _Context:
-    key = (plan, view, paper, settings)
-    if _LAST and _LAST[0][0][0] is plan and _LAST[0][0][1:] == key[1:]:
-        return _LAST[0][1]
     adjusted = _adjusted_parts(plan)
     tol = _tolerance(plan)
     camera = _fit_camera(plan, view, paper, adjusted, tol)
@@ -1055,7 +1047,6 @@ def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSett
                    words=_Words(camera, vps, centre_mm), tol=tol,
                    by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
                    originals={p.name: p for p in plan.model.parts})
-    _LAST[:] = [(key, ctx)]
     return ctx
 
 
