@@ -49,7 +49,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, replace
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -481,6 +481,27 @@ def _chain(pieces) -> list[tuple[int, list[np.ndarray]]]:
 
 
 # ----------------------------------------------------------------------------- occlusion engines
+
+
+def visible_points(points: Any, occluders: Sequence[Part], camera: Camera,
+                   settings: ContourSettings | None = None) -> np.ndarray:
+    """(n,) bool: True where no triangle of ``occluders`` hides the model point from ``camera``.
+
+    The same exact test the contours use (the configured engine, default ``grid``), with its
+    depth bias, so a point lying on an occluder's own surface counts as visible.
+
+    Args:
+        points: (n, 3) model points.
+        occluders: the parts whose triangles may hide them.
+        camera: the view.
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    meshes = [_Mesh(p) for p in occluders]
+    if not len(pts) or not meshes:
+        return np.ones(len(pts), dtype=bool)
+    return np.asarray(_make_engine(settings or ContourSettings(), camera, meshes).visible(pts),
+                      dtype=bool)
+
 
 
 def _make_engine(cs: ContourSettings, camera: Camera, meshes: Sequence[_Mesh]):

@@ -103,7 +103,7 @@ import numpy as np
 from . import templates
 from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
-from .contours import adjust_part, final_contours, trace_contours
+from .contours import adjust_part, final_contours, trace_contours, visible_points
 from .errors import SelectionError
 from .project import make_camera, vanishing_points
 from .ratios import entry_for
@@ -645,10 +645,9 @@ def _touching(part: str, chosen: dict[str, Any], tol: float) -> list[str]:
 _OCCLUSION_SAMPLES = 160
 
 
-def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSettings,
-                   eps: float) -> np.ndarray:
+def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSettings) -> np.ndarray:
     """``h[i, j]``: how many samples of part ``j``'s own visible contours (hidden by itself only)
-    part ``i`` hides, by rays from the camera position (hits nearer than the sample by ``eps``)."""
+    part ``i`` hides (the contours' exact occlusion test against ``i``'s triangles)."""
     n = len(parts)
     own = [trace_contours([p], camera, crease_deg=settings.crease_deg,
                           suggestive=settings.suggestive)[0] for p in parts]
@@ -659,17 +658,12 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
         if len(allp) > _OCCLUSION_SAMPLES:
             allp = allp[np.linspace(0, len(allp) - 1, _OCCLUSION_SAMPLES).round().astype(int)]
         samples.append(allp)
-    cam = np.asarray(camera.position, dtype=float)
     proj = [camera.project(np.asarray(p.vertices, dtype=float)) for p in parts]
     h = np.zeros((n, n), dtype=int)
-    meshes = [p.to_trimesh() for p in parts]
     for j in range(n):
         if not len(samples[j]):
             continue
         sj = camera.project(samples[j])
-        d = samples[j] - cam
-        dist = np.linalg.norm(d, axis=1)
-        dirs = d / dist[:, None]
         for i in range(n):
             if i == j or not len(proj[i]):
                 continue
@@ -677,23 +671,18 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
             inside = np.all((sj >= lo) & (sj <= hi), axis=1)
             if not inside.any():
                 continue
-            idx = np.flatnonzero(inside)
-            loc, ray, _ = meshes[i].ray.intersects_location(
-                np.repeat(cam[None, :], len(idx), axis=0), dirs[idx], multiple_hits=True)
-            if not len(ray):
-                continue
-            hit = np.linalg.norm(loc - cam, axis=1) < dist[idx][ray] - eps
-            h[i, j] = len(np.unique(ray[hit]))
+            # the contours' own exact occlusion test (no optional ray package needed)
+            seen = visible_points(samples[j][inside], [parts[i]], camera)
+            h[i, j] = int(np.count_nonzero(~seen))
     return h
 
 
-def _front_to_back(parts: Sequence[Part], camera: Camera, settings: SequenceSettings,
-                   eps: float) -> list[str]:
+def _front_to_back(parts: Sequence[Part], camera: Camera, settings: SequenceSettings) -> list[str]:
     """Contour order: a part that hides some of another's lines comes before it; among the
     parts nothing left hides, the nearest (box centre to the camera position), then the name;
     mutual hiding (a cycle) starts with the part the remaining ones hide least."""
     names = [p.name for p in parts]
-    h = _hidden_counts(parts, camera, settings, eps)
+    h = _hidden_counts(parts, camera, settings)
     cam = np.asarray(camera.position, dtype=float)
     dist = {}
     for p in parts:
@@ -925,8 +914,7 @@ class _Context:
         """Contour steps, front to back (:func:`_front_to_back`); each part's lines are its
         lines in the finished drawing, so the steps add up to exactly the finished drawing."""
         finals = self.finals(parts)
-        order = _front_to_back([parts[p] for p in order], self.camera, self.settings,
-                               1e3 * self.tol)
+        order = _front_to_back([parts[p] for p in order], self.camera, self.settings)
         out: list[_Draft] = []
         for part in order:
             if not finals[part]:

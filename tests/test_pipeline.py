@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -11,7 +13,7 @@ import yaml
 
 from h2s_print.cli import main
 
-from conftest import CONFIGS
+from conftest import CONFIGS, REPO
 
 pypdf = pytest.importorskip("pypdf")
 
@@ -197,3 +199,15 @@ def test_not_optimal_plan_names_its_real_status(tmp_path, monkeypatch, status):
     assert ("solver.time_limit_s 7" in text) == (status == "time_limit")
     key = cache.plan_key(tutorial.model, tutorial.solver)
     assert cache.entry_path(tmp_path / "cache", key).exists() == (status == "time_limit")
+
+
+def test_the_main_job_needs_no_optional_package(tmp_path):
+    """The README installs only the core dependencies: nothing on the default path may need
+    rtree or embreex (trimesh's ray interface does).  Block both and plan a tutorial."""
+    code = ("import sys; sys.modules['rtree'] = None; sys.modules['embreex'] = None\n"
+            "from h2s_print.cli import main\n"
+            f"sys.exit(main(['-q', 'plan', {str(REPO / 'configs' / 'camera.yaml')!r}, "
+            f"'-o', {str(tmp_path)!r}, '--no-cache']))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert (tmp_path / "camera" / "plan.json").is_file()
