@@ -250,9 +250,11 @@ def _inspect_table(title, model, primitives, relations) -> str:
     lines += _table(rows)
     kept = [r for r in relations if r.detail.get("preserved")]
     lines.append(f"relations: {len(relations)} found, {len(kept)} preserved")
-    rows = [("a", "b", "type", "axis", "tolerance", "preserved")]
+    rows = [("a", "b", "type", "axis", "faces", "tolerance", "preserved")]
     for r in relations:
-        rows.append((r.a, r.b, r.type, "xyz"[r.axis], f"{r.tolerance:.4g}",
+        # which faces meet: a's end and b's end along the axis (coplanar only)
+        faces = (f"{r.detail['a_end']}={r.detail['b_end']}" if r.type == "coplanar" else "")
+        rows.append((r.a, r.b, r.type, "xyz"[r.axis], faces, f"{r.tolerance:.4g}",
                      "yes" if r.detail.get("preserved") else ""))
     if len(rows) > 1:
         lines += _table(rows)
