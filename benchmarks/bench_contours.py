@@ -18,34 +18,16 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from h2s_print import contours as C  # noqa: E402
+from h2s_print.config import PaperSpec, ViewSpec  # noqa: E402
+from h2s_print.project import make_camera  # noqa: E402
 from h2s_print.types import Camera, Part, readonly  # noqa: E402
 
 
-def look_at(eye, target, lens_mm=50.0, paper=(297.0, 210.0)) -> Camera:
-    """A pinhole camera at ``eye`` aimed at ``target``, Z up, principal point at the sheet centre."""
-    eye, target = np.asarray(eye, float), np.asarray(target, float)
-    fwd = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(fwd, (0.0, 0.0, 1.0))
-    right /= np.linalg.norm(right)
-    up = np.cross(right, fwd)
-    rot = np.stack([right, up, fwd])
-    k = np.array([[lens_mm, 0, paper[0] / 2], [0, lens_mm, paper[1] / 2], [0, 0, 1.0]])
-    return Camera(tuple(float(x) for x in eye), readonly(k @ np.hstack([rot, (-rot @ eye)[:, None]]), float),
-                  paper)
-
-
-def fit_to_sheet(parts, eye, target, paper=(297.0, 210.0), fill=0.85) -> Camera:
-    """A look-at camera whose image of ``parts`` fills ``fill`` of the sheet, centred (as *project* does)."""
-    pts = np.concatenate([p.vertices for p in parts])
-    unit = look_at(eye, target, lens_mm=1.0, paper=(0.0, 0.0)).project(pts)
-    size = unit.max(axis=0) - unit.min(axis=0)
-    lens = fill * float(min(paper[0] / size[0], paper[1] / size[1]))
-    cam = look_at(eye, target, lens_mm=lens, paper=paper)
-    q = cam.project(pts)
-    shift = np.array(paper) / 2 - (q.min(axis=0) + q.max(axis=0)) / 2
-    proj = np.array(cam.projection_mm)
-    proj[:2] += shift[:, None] * proj[2]
-    return Camera(cam.position, readonly(proj, float), paper)
+def view_camera(parts) -> Camera:
+    """The project stage's own camera on ``parts``: a three-point view fitted to A4 landscape."""
+    view = ViewSpec("bench", azimuth_deg=24.0, elevation_deg=17.0, distance=3.0,
+                    perspective="three-point")
+    return make_camera(view, np.concatenate([p.vertices for p in parts]), PaperSpec())
 
 
 def scene(triangles: int, seed: int) -> list[Part]:
@@ -105,7 +87,7 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=7)
     args = ap.parse_args()
     parts = scene(args.triangles, args.seed)
-    camera = fit_to_sheet(parts, (4.0, -9.0, 3.0), (0.0, 0.0, 0.0))
+    camera = view_camera(parts)
     nfaces = sum(len(p.faces) for p in parts)
     rows = {}
     for engine in ("grid", "zbuffer", "ray"):
