@@ -57,8 +57,11 @@ Decisions where the brief is open (kept here, in one place)
 * **Eyeball rule** (paper §5 (ii)).  For each parent face a primitive step constructs on,
   ``A_p / k`` is the face's projected area on the sheet (mm²) over the number ``k`` of distinct
   lines drawn on it; the part is "eyeballed" when any of its faces falls below
-  ``settings.eyeball_mm2``: no guides at any level, and the text says where to put it by eye
-  ("about a third of the way ...").  Ellipse steps use the same rule with ``k = 4`` per end face.
+  ``settings.eyeball_mm2``, or when a face is seen almost edge-on: its projected width (its
+  projected area over its longest projected side) is under ``MIN_FACE_WIDTH_MM`` (3 mm),
+  whatever the threshold.  An eyeballed part gets no guides at any level, and the text says
+  where to put it by eye ("about a third of the way ...").  Ellipse steps use the same rule
+  with ``k = 4`` per end face.
   Parts without anchors are never eyeballed (there is nothing to construct).
 * **Left out** (paper §5 (iii)).  A part is *hidden* when :func:`~h2s_print.contours.final_contours`
   (all parts hide all parts) leaves it no polyline; a hidden part is left out unless it is an
@@ -86,8 +89,13 @@ Decisions where the brief is open (kept here, in one place)
   the picture is scaled down about the sheet centre (same camera pose) until every guide any
   level could show lies inside the margins too.
 * **Text.**  Every sentence comes from ``templates/steps.yaml``.  Vanishing points are named by
-  where they lie on the sheet seen from the drawing's centre (left/right when the horizontal
-  offset dominates, above/below otherwise), "parallel to the ... edges" at infinity.
+  :func:`h2s_print.project.vp_side` seen from the *sheet's* centre (left/right when the
+  horizontal offset dominates, above/below otherwise), "parallel to the ... edges" at infinity:
+  the same rule and centre as the calibrated sheet's labels (:func:`h2s_print.layout.vp_names`).
+  Front/back and top/bottom faces follow the model (the front is the object's front, ``y_lo``);
+  the x faces and sides follow the *picture*: of ``x_lo`` / ``x_hi``, the one whose face centre
+  (on the selected boxes' bounding box) projects further left on the sheet is "left", so a view
+  from behind (azimuth 180) calls ``x_hi`` "left".
 
 Every ``*_mm`` coordinate is ``camera.project`` of its 3D point.
 """
@@ -105,7 +113,7 @@ from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
 from .contours import adjust_part, final_contours, trace_contours, visible_points
 from .errors import SelectionError
-from .project import make_camera, vanishing_points
+from .project import make_camera, vanishing_points, vp_side
 from .ratios import entry_for
 from .types import Box, Camera, Guide, Part, Step, Stroke, VanishingPoint, Vec3, ViewPlan
 
@@ -123,6 +131,10 @@ LEVEL_ROLES: dict[str, frozenset[str]] = {
     "master": frozenset(),
     "basic": frozenset(),
 }
+#: A face whose projected width on the sheet (its projected area over its longest projected
+#: side, mm) is under this is too thin for guide lines (seen almost edge-on): its
+#: constructions are eyeballed whatever ``settings.eyeball_mm2`` says.
+MIN_FACE_WIDTH_MM = 3.0
 _ROLE_RANK = {"construction": 0, "vanishing": 1, "guide": 2}
 _XYZ = "xyz"
 
@@ -192,6 +204,17 @@ def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
     p = camera.project(np.asarray(corners, dtype=float))
     x, y = p[:, 0], p[:, 1]
     return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def _too_small(camera: Camera, corners: Sequence[Vec3], k: int, eyeball_mm2: float) -> bool:
+    """The eyeball rule for one face with ``k`` lines on it (module docstring): projected area
+    over ``k`` under ``eyeball_mm2`` mm², or projected width (area over the longest projected
+    side) under ``MIN_FACE_WIDTH_MM``."""
+    p = camera.project(np.asarray(corners, dtype=float))
+    x, y = p[:, 0], p[:, 1]
+    area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+    longest = float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
+    return area / k < eyeball_mm2 or not area >= MIN_FACE_WIDTH_MM * longest
 
 
 def _front_facing(face: Face, camera: Camera) -> bool:
@@ -282,20 +305,22 @@ def view_camera(plan: Any, view: ViewSpec, paper: PaperSpec) -> Camera:
 
 
 class _Words:
-    """Names of faces, sides, dimensions and vanishing points for this view's texts."""
+    """Names of faces, sides, dimensions and vanishing points for this view's texts.
 
-    def __init__(self, camera: Camera, vps: Sequence[VanishingPoint], centre_mm: np.ndarray):
+    Vanishing points: :func:`h2s_print.project.vp_side` seen from the sheet's centre (the rule
+    the calibrated sheet's labels use, :func:`h2s_print.layout.vp_names`).  The x faces and
+    sides are named by the picture: the one of ``x_lo`` / ``x_hi`` whose face centre (of the
+    model's bounding box) projects further left is "left" (``swap_x`` when that is ``x_hi``).
+    """
+
+    def __init__(self, camera: Camera, vps: Sequence[VanishingPoint], bounds: Box):
         edges = _raw("edges")
+        centre_mm = (camera.paper_mm[0] / 2.0, camera.paper_mm[1] / 2.0)
         keys: dict[int, str] = {}
         for vp in vps:
-            if vp.at_infinity or vp.xy_mm is None:
-                continue
-            dx = vp.xy_mm[0] - float(centre_mm[0])
-            dy = vp.xy_mm[1] - float(centre_mm[1])
-            if abs(dx) >= abs(dy):
-                keys[vp.axis] = "right" if dx > 0 else "left"
-            else:
-                keys[vp.axis] = "above" if dy > 0 else "below"
+            side = vp_side(vp, centre_mm)
+            if side is not None:
+                keys[vp.axis] = side
         self.vps: dict[int, str] = {}
         for vp in vps:
             if vp.axis not in keys:
@@ -305,17 +330,24 @@ class _Words:
             clash = sum(1 for k in keys.values() if k == key) > 1
             self.vps[vp.axis] = (_t(f"vp.{key}_of", edges=edges[vp.axis]) if clash
                                  else _t(f"vp.{key}"))
+        xs = [Face(bounds, 0, end) for end in ("lo", "hi")]
+        cx = camera.project(np.array([np.mean(np.asarray(f.corners, dtype=float), axis=0)
+                                      for f in xs]))[:, 0]
+        self.swap_x = bool(cx[1] < cx[0])
 
     def vp(self, axis: int) -> str:
         return self.vps[axis]
 
-    @staticmethod
-    def face(axis: int, end: str) -> str:
-        return _raw("faces")[f"{_XYZ[axis]}_{end}"]
+    def _key(self, axis: int, end: str) -> str:
+        if axis == 0 and self.swap_x:
+            end = "hi" if end == "lo" else "lo"
+        return f"{_XYZ[axis]}_{end}"
 
-    @staticmethod
-    def side(axis: int, end: str) -> str:
-        return _raw("sides")[f"{_XYZ[axis]}_{end}"]
+    def face(self, axis: int, end: str) -> str:
+        return _raw("faces")[self._key(axis, end)]
+
+    def side(self, axis: int, end: str) -> str:
+        return _raw("sides")[self._key(axis, end)]
 
     @staticmethod
     def dim(axis: int) -> str:
@@ -835,8 +867,7 @@ class _Context:
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
-            area = _polygon_area_mm2(self.camera, face.corners)
-            if k and area / k < self.settings.eyeball_mm2:
+            if k and _too_small(self.camera, face.corners, k, self.settings.eyeball_mm2):
                 eyeball = True
         by_eye = self.by_eye_sentence(cand)
         if eyeball:
@@ -898,7 +929,7 @@ class _Context:
             lines += [_Line(ln.role, ln.start, ln.end) for ln in fe.lines]
             pts = np.vstack([fe.points3d, fe.points3d[:1]])
             strokes.append(_stroke("ellipse", part, pts, self.camera))
-            if _polygon_area_mm2(self.camera, face.corners) / 4.0 < self.settings.eyeball_mm2:
+            if _too_small(self.camera, face.corners, 4, self.settings.eyeball_mm2):
                 eyeball = True
         u, v = ends[0].in_axes
         if basic:
@@ -1029,10 +1060,10 @@ def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSett
     camera = _fit_camera(plan, view, paper, adjusted, tol)
     vps = vanishing_points(camera)
     chosen = plan.chosen()
-    centre = camera.project(np.vstack([_box_corners(c.box) for c in chosen.values()]))
-    centre_mm = 0.5 * (centre.min(axis=0) + centre.max(axis=0))
+    corners = np.vstack([_box_corners(c.box) for c in chosen.values()])
+    bounds = (_vec(corners.min(axis=0)), _vec(corners.max(axis=0)))
     ctx = _Context(plan=plan, camera=camera, settings=settings, vps=vps,
-                   words=_Words(camera, vps, centre_mm), tol=tol,
+                   words=_Words(camera, vps, bounds), tol=tol,
                    by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
                    originals={p.name: p for p in plan.model.parts})
     return ctx

@@ -602,3 +602,97 @@ def test_unknown_level_is_refused(examples):
     t, plan, _ = examples["camera"]
     with pytest.raises(ValueError, match="level"):
         seq.sequence_view(plan, t.views[0], "expert", t.paper, t.sequence)
+
+
+# ----------------------------------------------------------------------------- review: words, slivers
+
+
+def _vp_phrases() -> dict[str, str]:
+    """Every phrase ``templates/steps.yaml`` ``vp`` can produce -> its sheet name (the phrase
+    without "toward the " / "parallel to the ")."""
+    from h2s_print import templates
+    vp = templates.lookup("steps", "vp")
+    edges = templates.lookup("steps", "edges")
+    out = {}
+    for key, tmpl in vp.items():
+        for e in edges:
+            phrase = tmpl.format(edges=e)
+            out[phrase] = re.sub(r"^(toward|parallel to) the ", "", phrase)
+    return out
+
+
+def test_step_texts_name_vanishing_points_as_the_sheet_does(examples):
+    from h2s_print.layout import vp_names
+    phrases = sorted(_vp_phrases().items(), key=lambda kv: -len(kv[0]))  # longest first
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        names = set(vp_names(vp).values())
+        used = set()
+        for step in vp.steps:
+            text = step.text
+            for phrase, sheet in phrases:  # "... vanishing point of the x edges" before "... point"
+                if phrase in text:
+                    used.add(sheet)
+                    text = text.replace(phrase, "")
+        assert used <= names, (name, vp.name, vp.level, used, names)
+        checked += bool(used)
+    assert checked  # some texts do name vanishing points
+
+
+def _named_left(plan, view) -> tuple[float, float]:
+    """Sheet x (mm, independent projection) of the face centres the texts call left, right."""
+    words = seq._context(plan, view, PAPER, SequenceSettings()).words
+    (lo, hi) = plan.chosen()["big"].box
+    m = seq.view_camera(plan, view, PAPER).projection_mm
+    xs = {}
+    for end, x in (("lo", lo[0]), ("hi", hi[0])):
+        centre = (x, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2)
+        xs[words.face(0, end)] = _project(m, centre)[0]
+    return xs["left"], xs["right"]
+
+
+def test_left_and_right_follow_the_picture():
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "cap": ((-100, 20, 100), (-60, 60, 130))}
+    # the cap's left end (x lo) in line with the big box's x lo (ratio 0) on its top face
+    anchor = Anchor(0, "lo", "big", 0.0, 1, 2, "hi")
+    plan = _tiny_plan(boxes, {"cap": ("big", [anchor])})
+    texts = {}
+    for az in (0.0, 180.0):
+        view = ViewSpec(f"az{az:.0f}", azimuth_deg=az, elevation_deg=25.0, distance=3.0,
+                        lens_mm=50.0, perspective="two-point")
+        left, right = _named_left(plan, view)
+        assert left < right, az  # the face called left is left on the sheet
+        step = next(s for s in seq.sequence_view(plan, view, "novice", PAPER,
+                                                 SequenceSettings(eyeball_mm2=0.0)).steps
+                    if s.part == "cap" and s.kind == "primitive")
+        texts[az] = step.text
+    # x lo is on the left seen from the front, on the right seen from behind
+    assert "Extend the left edge of the big's top face" in texts[0.0]
+    assert "Extend the right edge of the big's top face" in texts[180.0]
+
+
+def test_face_seen_almost_edge_on_is_eyeballed_whatever_the_threshold():
+    # a quarter line on the big box's top face (z hi), for the lid's left end
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "lid": ((-50, 20, 100), (60, 60, 110))}
+    anchor = Anchor(0, "lo", "big", 0.25, 3, 2, "hi")
+    plan = _tiny_plan(boxes, {"lid": ("big", [anchor])})
+    top = [(-100, 0, 100), (100, 0, 100), (100, 100, 100), (-100, 100, 100)]
+    found = {}
+    # elevation 8 deg puts the camera about 7 units above the top face's plane (z = 100), some
+    # 320 units away: the face is seen about 1.3 deg from edge-on (2.3 mm wide on the sheet);
+    # at 30 deg it is 37 mm wide
+    for elev in (8.0, 30.0):
+        view = ViewSpec(f"e{elev:.0f}", azimuth_deg=20.0, elevation_deg=elev, distance=3.0,
+                        lens_mm=50.0, perspective="two-point")
+        m = seq.view_camera(plan, view, PAPER).projection_mm
+        p = np.array([_project(m, c) for c in top])
+        area = 0.5 * abs(sum(p[i, 0] * p[i - 3, 1] - p[i - 3, 0] * p[i, 1] for i in range(4)))
+        longest = max(np.linalg.norm(p[i] - p[(i + 1) % 4]) for i in range(4))
+        step = next(s for s in seq.sequence_view(plan, view, "novice", PAPER,
+                                                 SequenceSettings(eyeball_mm2=0.0)).steps
+                    if s.part == "lid" and s.kind == "primitive")
+        found[elev] = (area / longest, step.eyeball, len(step.guides))
+    width, eyeball, guides = found[8.0]
+    assert width < seq.MIN_FACE_WIDTH_MM and eyeball and guides == 0, found
+    width, eyeball, guides = found[30.0]
+    assert width >= seq.MIN_FACE_WIDTH_MM and not eyeball and guides > 0, found
