@@ -329,6 +329,12 @@ def _ungrounded(lines, drawn, tol):
     return todo
 
 
+def _model_tol(plan, rel: float) -> float:
+    """``rel`` times the model's bounding-box diagonal, model units."""
+    lo, hi = plan.model.bounds
+    return rel * float(np.linalg.norm(np.subtract(hi, lo)))
+
+
 def test_guides_on_a_tapered_parent_start_from_drawn_lines(examples):
     """A child of a frustum: every guide can be drawn from the scaffold and earlier guides
     (the frustum's box faces are not drawn, so the box around it must be drawn first)."""
@@ -338,8 +344,7 @@ def test_guides_on_a_tapered_parent_start_from_drawn_lines(examples):
             continue
         by_id = {c.id: c for c in plan.candidates}
         chosen = plan.chosen()
-        lo, hi = plan.model.bounds
-        tol = 1e-6 * float(np.linalg.norm(np.subtract(hi, lo)))
+        tol = _model_tol(plan, 1e-6)
         drawn: list = []
         for s in vp.steps:
             if s.kind != "primitive":
@@ -364,8 +369,7 @@ def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
             continue
         by_id = {c.id: c for c in plan.candidates}
         chosen = plan.chosen()
-        lo, hi = plan.model.bounds
-        tol = 1e-7 * float(np.linalg.norm(np.subtract(hi, lo)))
+        tol = _model_tol(plan, 1e-7)
         for step in vp.steps:
             if step.kind != "primitive" or step.eyeball:
                 continue
@@ -473,8 +477,7 @@ def test_equivalent_guides_share_one_id_and_geometry(examples):
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
             continue
-        lo, hi = plan.model.bounds
-        tol = 1e-6 * float(np.linalg.norm(np.subtract(hi, lo)))
+        tol = _model_tol(plan, 1e-6)
         geo = {}
         for s in vp.steps:
             for g in s.guides:
