@@ -28,9 +28,13 @@ Tolerance: ``rel_tol × min(diagonal of a's box, diagonal of b's box)``, model u
 :attr:`Relation.tolerance`: relative to the *smaller* part so that a small part near a large
 one is not related by the large one's slack.
 
-Preservation: every relation is returned, and exactly one per related pair carries
+Preservation: every relation is returned, and one per related pair carries
 ``detail["preserved"] = True``: the first in preference order bisector > coaxial > coplanar
 (:data:`types.RELATION_PREFERENCE`), then lowest axis, then ends (lo before hi, a's end first).
+Besides it, every coplanar relation of parts that *touch* is preserved too, marked
+``detail["contact"]`` (faces facing each other, overlapping: a part standing on another) or
+``detail["flush"]`` (faces on the same side, boxes touching: flush fronts): touching parts stay
+touching in every selection.
 
 Output order (deterministic): sorted by ``(a, b, RELATION_PREFERENCE[type], axis, a_end,
 b_end)`` with ``lo`` < ``hi``; so the preserved relation is the first of its pair.
@@ -131,6 +135,25 @@ def _pair_relations(a: Primitive, b: Primitive, rel_tol: float) -> list[tuple[tu
     return out
 
 
+def _touching(a: Primitive, b: Primitive, rel: Relation) -> dict[str, bool]:
+    """``{"contact": True}`` or ``{"flush": True}`` for a coplanar pair that touches, else {}.
+
+    contact: the two faces face each other (one box's ``hi`` face on the other's ``lo`` face)
+    and their rectangles overlap with positive area (a part standing on another);
+    flush: the faces are on the same side and the two boxes touch or overlap (a panel's front
+    flush with its neighbour's).  Both are kept by every selection (issue: touching parts must
+    stay touching), besides the one preferred relation per pair.
+    """
+    n = rel.axis
+    tol = rel.tolerance
+    inplane = [k for k in range(3) if k != n]
+    overlap = [min(a.box[1][k], b.box[1][k]) - max(a.box[0][k], b.box[0][k]) for k in inplane]
+    if rel.detail.get("a_end") != rel.detail.get("b_end"):
+        return {"contact": True} if all(o > tol for o in overlap) else {}
+    gaps = [max(a.box[0][k] - b.box[1][k], b.box[0][k] - a.box[1][k], 0.0) for k in inplane]
+    return {"flush": True} if math.hypot(*gaps) <= tol else {}
+
+
 def detect_relations(
     primitives: Sequence[Primitive], *, rel_tol: float = REL_TOL
 ) -> tuple[Relation, ...]:
@@ -162,10 +185,12 @@ def detect_relations(
     keyed.sort(key=lambda kr: kr[0])
     out: list[Relation] = []
     previous: tuple[str, str] | None = None
+    prims = {p.part: p for p in usable}
     for _, rel in keyed:
         first = (rel.a, rel.b) != previous
         previous = (rel.a, rel.b)
+        touch = _touching(prims[rel.a], prims[rel.b], rel) if rel.type == "coplanar" else {}
         out.append(Relation(rel.a, rel.b, rel.type, rel.axis, rel.tolerance,
-                            {**rel.detail, "preserved": first}))
+                            {**rel.detail, **touch, "preserved": first or bool(touch)}))
     log.debug("%d relations between %d primitives", len(out), len(usable))
     return tuple(out)

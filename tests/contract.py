@@ -261,12 +261,14 @@ def check_parts(plan: Mapping[str, Any]) -> dict:
 
 
 def check_relations(plan: Mapping[str, Any]) -> dict:
-    """a < b, both parts, known type, tolerance > 0, holds on the input boxes; one preserved
-    relation per pair at most (DESIGN.md §2.3)."""
+    """a < b, both parts, known type, tolerance > 0, holds on the input boxes; one preferred
+    preserved relation per pair at most (DESIGN.md §2.3), plus the coplanar relations of
+    touching faces (``detail.contact`` / ``detail.flush``), which are always preserved."""
     boxes = {p["name"]: p["primitive"]["box"] for p in plan["parts"]}
     slack = 1e-12 * model_size(plan)
     kept_pairs: dict[tuple[str, str], int] = {}
     worst = 0.0
+    n_touch = 0
     for i, rel in enumerate(plan["relations"]):
         where = _rel_name(i, rel)
         assert rel["a"] in boxes, f"{where}.a: {rel['a']!r} is not a part"
@@ -284,13 +286,18 @@ def check_relations(plan: Mapping[str, Any]) -> dict:
         assert gap <= rel["tolerance"] + slack, (
             f"{where}: does not hold on the input boxes: gap {gap:.6g} > tolerance "
             f"{rel['tolerance']:.6g}")
-        if rel["detail"].get("preserved"):
+        touching = rel["detail"].get("contact") or rel["detail"].get("flush")
+        if touching:  # touching faces are preserved besides the pair's preferred relation
+            assert rel["type"] == "coplanar", f"{where}: contact/flush on a {rel['type']}"
+            assert rel["detail"].get("preserved"), f"{where}: touching but not preserved"
+            n_touch += 1
+        elif rel["detail"].get("preserved"):
             pair = (rel["a"], rel["b"])
             assert pair not in kept_pairs, (
                 f"{where}: a second preserved relation for pair {pair} (first: "
                 f"{_rel_name(kept_pairs[pair], plan['relations'][kept_pairs[pair]])})")
             kept_pairs[pair] = i
-    return {"relations": len(plan["relations"]), "preserved": len(kept_pairs),
+    return {"relations": len(plan["relations"]), "preserved": len(kept_pairs) + n_touch,
             "worst_gap_over_tolerance": worst}
 
 
@@ -348,15 +355,19 @@ def check_candidates(plan: Mapping[str, Any]) -> dict:
             assert anc["parent"] in c["parents"], \
                 f"{aw}.parent {anc['parent']!r} is not in parents {c['parents']}"
             assert anc["axis"] in (0, 1, 2), f"{aw}.axis: {anc['axis']!r}"
-            assert anc["end"] in ("lo", "hi"), f"{aw}.end: {anc['end']!r}"
+            assert anc["end"] in ("lo", "hi", "mid"), f"{aw}.end: {anc['end']!r}"
             assert anc["guide_lines"] >= 0, f"{aw}.guide_lines: {anc['guide_lines']} < 0"
-            ax, e = anc["axis"], 0 if anc["end"] == "lo" else 1
+            ax = anc["axis"]
             pbox = by_id[anc["parent"]]["box"]
             want = pbox[0][ax] + anc["ratio"] * (pbox[1][ax] - pbox[0][ax])
-            err = abs(box[e][ax] - want)
+            # "mid": the child's mid-plane lies at the ratio (README, plan.json additions)
+            got = (_mid(box, ax) if anc["end"] == "mid"
+                   else box[0 if anc["end"] == "lo" else 1][ax])
+            e = anc["end"]
+            err = abs(got - want)
             worst_anchor = max(worst_anchor, err / size)
             assert err <= RATIO_TOL * size, (
-                f"{aw}: box[{e}][{ax}] = {box[e][ax]!r} but {anc['parent']} at ratio "
+                f"{aw}: the {e} of axis {ax} = {got!r} but {anc['parent']} at ratio "
                 f"{anc['ratio']!r} gives {pbox[0][ax]!r} + {anc['ratio']!r} * "
                 f"({pbox[1][ax]!r} - {pbox[0][ax]!r}) = {want!r} (off by {err:.3g})")
             ends[ax].add(anc["end"])

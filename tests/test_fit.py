@@ -260,7 +260,9 @@ def test_shared_models_fit_as_expected(shared_models):
     for prims in (pins, oven, lack):
         rels = detect_relations(prims)
         pairs = {(r.a, r.b) for r in rels}
-        assert sum(r.detail["preserved"] for r in rels) == len(pairs)
+        touching = sum(bool(r.detail.get("contact") or r.detail.get("flush"))
+                       for r in rels)
+        assert len(pairs) <= sum(r.detail["preserved"] for r in rels) <= len(pairs) + touching
 
 
 def _drawer(w=0.4, d=0.5, h=0.15, t=0.012) -> trimesh.Trimesh:

@@ -146,11 +146,16 @@ def test_exactly_one_preserved_per_pair_by_preference():
     rels = detect_relations([f, e, d, c, b, a])
     pairs = {(r.a, r.b) for r in rels}
     for pair in pairs:
-        kept = [r for r in rels if (r.a, r.b) == pair and r.detail["preserved"]]
-        assert len(kept) == 1
-        best = min(RELATION_PREFERENCE[r.type] for r in rels if (r.a, r.b) == pair)
-        assert RELATION_PREFERENCE[kept[0].type] == best
-    kept = {(r.a, r.b): r for r in rels if r.detail["preserved"]}
+        mine = [r for r in rels if (r.a, r.b) == pair]
+        first = mine[0]  # the preferred relation of the pair comes first
+        assert first.detail["preserved"]
+        best = min(RELATION_PREFERENCE[r.type] for r in mine)
+        assert RELATION_PREFERENCE[first.type] == best
+        # besides it, exactly the coplanar relations of touching faces are preserved
+        for r in mine[1:]:
+            touching = r.detail.get("contact", False) or r.detail.get("flush", False)
+            assert r.detail["preserved"] == touching
+    kept = {(r.a, r.b): r for r in reversed(rels) if r.detail["preserved"]}
     assert (kept["a", "b"].type, kept["a", "b"].axis) == ("bisector", 1)
     assert (kept["c", "d"].type, kept["c", "d"].axis) == ("coaxial", 2)
     assert not [r for r in _of(rels, "c", "d", "bisector") if r.axis != 2]  # implied, not listed
@@ -158,6 +163,25 @@ def test_exactly_one_preserved_per_pair_by_preference():
     ef = kept["e", "f"]
     assert (ef.type, ef.axis, ef.detail["a_end"], ef.detail["b_end"]) == ("coplanar", 0, "hi", "lo")
     assert len(_of(rels, "e", "f")) == 2  # all coplanar face pairs are kept
+
+
+def test_touching_faces_are_preserved_as_contact_or_flush():
+    floor = _cuboid("floor", (0, 0, 0), (4, 4, 1))
+    box = _cuboid("box", (1, 1, 1), (2, 2, 2))          # stands on the floor: contact on z
+    side = _cuboid("side", (4, 0, 0), (5, 4, 1))         # beside the floor, same top: flush on z
+    away = _cuboid("away", (9, 0, 0), (10, 4, 1))        # same top, 4 away: coplanar, not touching
+    rels = detect_relations([floor, box, side, away])
+    contact = [r for r in _of(rels, "box", "floor") if r.detail.get("contact")]
+    assert [(r.axis, r.detail["a_end"], r.detail["b_end"]) for r in contact] == [(2, "lo", "hi")]
+    assert all(r.detail["preserved"] for r in contact)
+    flush = [r for r in _of(rels, "floor", "side") if r.detail.get("flush")]
+    # top and bottom, front and back faces flush
+    assert {(r.axis, r.detail["a_end"]) for r in flush} == {(1, "lo"), (1, "hi"), (2, "lo"),
+                                                             (2, "hi")}
+    assert all(r.detail["preserved"] for r in flush)
+    far = _of(rels, "away", "floor")
+    assert not any(r.detail.get("flush") or r.detail.get("contact") for r in far)
+    assert sum(r.detail["preserved"] for r in far) <= 1  # only the pair's preferred relation
 
 
 def test_ends_follow_name_order_and_output_is_deterministic():
