@@ -36,17 +36,29 @@ no candidate.  (Before this rule the train's boiler came out 43.7 by 47.6 mm: an
 
 Where anchors come from
 -----------------------
-Anchoring needs a *coplanar* relation between the child's part and the parent's part (guides
-transfer only within a plane).  For a coplanar relation normal to axis ``n``:
+Anchoring needs a *relation* between the child's part and the parent's part: a plane the two
+share, on which a guide constructed on the parent reaches the child (guides transfer within a
+plane).  Every relation offers one:
 
-* the child's in-plane axes are anchored at ratios of the parent's extents, constructed on the
-  parent's face in the shared plane (``face_normal = n``, ``face_side`` that face's end);
-* the normal axis ``n`` is anchored at ratios of the parent's extent along ``n`` (flush with
-  the shared plane at 0 or 1, or extruded/divided: "grip extended by ½ the depth of the body"),
-  constructed on the larger parent face that contains ``n`` (``face_side`` left to the view).
+* **coplanar** normal to ``n`` (a shared face plane): the child's in-plane axes are anchored at
+  ratios of the parent's extents, constructed on the parent's face in the shared plane
+  (``face_normal = n``, ``face_side`` that face's end); the normal axis ``n`` is anchored at
+  ratios of the parent's extent along ``n`` (flush with the shared plane at 0 or 1, or
+  extruded/divided: "grip extended by ½ the depth of the body"), constructed on the larger
+  parent face that contains ``n`` (``face_side`` left to the view);
+* **bisector** normal to ``n`` (a *common bisector plane*, the paper's "the handle anchors the
+  roller using the common bisector plane"): the same anchors, constructed on the parent's
+  faces normal to ``n`` (``face_side`` left to the view) and carried to the shared mid-plane;
+* **coaxial** (a shared axis, whose two cross mid-planes are common bisector planes): the same
+  anchors, constructed on the parent's largest face that contains the anchored axis.
 
-Bisector and coaxial relations do not create anchors by themselves.  They shape candidates in
-two ways:
+Besides the ends, an anchor may place the child's **mid-plane** (``end == "mid"``): the child
+is centred on the parent's line at that ratio, typically on the parent's own mid-plane at ½
+(found with the face's diagonals), and keeps its input length (estimated by eye).  With
+``box`` the candidate's box and ``p`` the parent's: ``(box[0][axis] + box[1][axis]) / 2 ==
+p[0][axis] + ratio * (p[1][axis] - p[0][axis])`` up to one rounding of the halving.
+
+Bisector and coaxial relations also shape candidates in two more ways:
 
 * **re-centring** (stage i): a child hanging off an *adjusted* parent candidate would break a
   preserved bisector or coaxial relation with it on an axis left at its input interval; so on
@@ -62,6 +74,10 @@ two ways:
   interval or, when ``j`` is coplanar with ``i``, takes one of the best anchors off ``C`` (the
   camera's shutter button, re-centred on a moved grip, still sits flush on the grip's top).
   The ``RESTORED_PER_RELATION`` cheapest are kept.
+
+The *start part* (``order.start_part``: the part a drawing teacher blocks in first, the
+largest one or a large part standing on the ground) gets only its original: it is the root the
+tutorial starts from, and the calibrated sheet's ground plane is its bottom.
 
 Levels (paper stage iii): level 1 anchors off the input primitives ("originals"); level ``k``
 anchors off the candidates of level ``k - 1`` and keeps only candidates that use at least one of
@@ -116,12 +132,15 @@ from typing import Any, Iterable, Mapping, Sequence
 
 from .config import SolverSettings
 from .errors import SelectionError
+from .order import start_part
 from .ratios import ALIGN_ONLY, CATALOGUE, distinct_face_lines, distinct_lines, entry_for
 from .types import Box, Primitive, Relation
 
 log = logging.getLogger(__name__)
 
 ENDS = ("lo", "hi")
+#: Interval points an anchor may place: an end, or the mid-plane (a common bisector plane).
+POINTS = ("lo", "hi", "mid")
 #: Fraction of a part's largest extent used as ``L`` for its zero-length axes.
 THIN_FRACTION = 0.05
 #: An extent below this fraction of the box's largest extent counts as zero.
@@ -332,6 +351,7 @@ class _Context:
     a_ref: float
     coplanar: dict[str, list[tuple[str, Relation]]]
     preserved: dict[str, list[tuple[str, Relation]]]
+    start: str | None = None
     cands: dict[str, Candidate] = field(default_factory=dict)
     order: list[str] = field(default_factory=list)
     ancestry: dict[str, dict[str, str]] = field(default_factory=dict)
@@ -382,6 +402,13 @@ def _face_for(pbox: Box, axis: int, normal: int | None,
     b = max(others, key=lambda a: (_extent(pbox, a), -a))
     face_normal = next(a for a in others if a != b)
     return face_normal, None, _extent(pbox, axis) * _extent(pbox, b)
+
+
+def _point(box: Box, axis: int, end: str) -> float:
+    """An interval's ``lo``, ``hi`` or ``mid`` coordinate along ``axis``."""
+    if end == "mid":
+        return _mid(box, axis)
+    return box[0][axis] if end == "lo" else box[1][axis]
 
 
 def _ratio_value(pbox: Box, axis: int, ratio: float) -> float:
@@ -606,17 +633,21 @@ class _Generator:
         mc = self.ctx.settings.max_change
         found: list[dict[tuple, _End]] = [dict() for _ in range(3)]
         for parent_part, rel in self.ctx.coplanar.get(part, ()):
-            side = rel.detail.get("b_end" if rel.a == part else "a_end")
+            side = (rel.detail.get("b_end" if rel.a == part else "a_end")
+                    if rel.type == "coplanar" else None)
+            plane = None if rel.type == "coaxial" else rel.axis
             for pid in self.usable(part, parent_pool.get(parent_part, ())):
                 pbox = self.ctx.cands[pid].box
                 for axis in range(3):
                     reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
-                    normal, fside, area = _face_for(pbox, axis, rel.axis, side)
+                    reach_mid = mc * _norm_length(orig, axis) * (1 + 1e-9)
+                    normal, fside, area = _face_for(pbox, axis, plane, side)
                     entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
                     for entry in entries:
                         value = _ratio_value(pbox, axis, entry.ratio)
-                        for e, end in enumerate(ENDS):
-                            if abs(value - orig[e][axis]) > reach:
+                        for end in POINTS:
+                            target = _point(orig, axis, end)
+                            if abs(value - target) > (reach_mid if end == "mid" else reach):
                                 continue
                             anchor = Anchor(axis, end, pid, entry.ratio, entry.guide_lines,
                                             normal, fside)
@@ -628,7 +659,7 @@ class _Generator:
                                 found[axis][key] = _End(value, anchor, parent_part, area)
         out: list[dict[str, list[_End]]] = []
         for axis in range(3):
-            per_end: dict[str, list[_End]] = {"lo": [], "hi": []}
+            per_end: dict[str, list[_End]] = {"lo": [], "hi": [], "mid": []}
             for key in sorted(found[axis], key=lambda k: (k[0], k[1], k[2])):
                 per_end[key[0]].append(found[axis][key])
             out.append(per_end)
@@ -659,6 +690,8 @@ class _Generator:
                 raw.append((opt.value, opt.value + length, (opt,), 1))
             for opt in ends["hi"]:
                 raw.append((opt.value - length, opt.value, (opt,), 1))
+            for opt in ends["mid"]:
+                raw.append((opt.value - 0.5 * length, opt.value + 0.5 * length, (opt,), 1))
         options: list[_AxisOption] = []
         for lo, hi, used, free in raw:
             if not _within_change(orig, axis, lo, hi, mc):
@@ -767,7 +800,7 @@ class _Generator:
         anc = self.ctx.ancestry[cand.id]
         for other, rel in self.ctx.preserved.get(cand.part, ()):
             prim = self.ctx.prims[other]
-            if prim.type == "custom" or other in anc:
+            if prim.type == "custom" or other in anc or other == self.ctx.start:
                 continue
             obox = prim.box
             here_is_a = rel.a == cand.part
@@ -858,7 +891,8 @@ class _Generator:
         for level in range(1, ctx.settings.depth + 1):
             batch: list[tuple[Candidate, dict]] = []
             for part in sorted(ctx.prims):
-                if ctx.prims[part].type == "custom" or _largest_extent(ctx.prims[part].box) <= 0:
+                if (ctx.prims[part].type == "custom" or part == ctx.start
+                        or _largest_extent(ctx.prims[part].box) <= 0):
                     continue
                 batch.extend(self.anchor_part(part, pool, fresh))
             anchored = self.commit(batch)
@@ -1015,14 +1049,15 @@ def generate_candidates(primitives: Sequence[Primitive], relations: Sequence[Rel
     preserved: dict[str, list[tuple[str, Relation]]] = {}
     for r in sorted(relations, key=lambda r: (r.a, r.b, r.type, r.axis, sorted(
             (k, str(v)) for k, v in r.detail.items()))):
-        if r.type == "coplanar":
-            coplanar.setdefault(r.a, []).append((r.b, r))
-            coplanar.setdefault(r.b, []).append((r.a, r))
+        # every relation offers construction planes: shared faces (coplanar), shared
+        # mid-planes (bisector) and a shared axis (coaxial: both cross mid-planes)
+        coplanar.setdefault(r.a, []).append((r.b, r))
+        coplanar.setdefault(r.b, []).append((r.a, r))
         if r.detail.get("preserved"):
             preserved.setdefault(r.a, []).append((r.b, r))
             preserved.setdefault(r.b, []).append((r.a, r))
     ctx = _Context(settings=settings, prims=prims, a_ref=a_ref, coplanar=coplanar,
-                   preserved=preserved)
+                   preserved=preserved, start=start_part(primitives))
     _Generator(ctx).run()
     index = {cid: i for i, cid in enumerate(ctx.order)}
     ordered = sorted(ctx.cands.values(), key=lambda c: (c.part, not c.original, index[c.id]))

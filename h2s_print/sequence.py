@@ -339,7 +339,7 @@ class _Words:
         return self.vps[axis]
 
     def _key(self, axis: int, end: str) -> str:
-        if axis == 0 and self.swap_x:
+        if axis == 0 and self.swap_x and end != "mid":
             end = "hi" if end == "lo" else "lo"
         return f"{_XYZ[axis]}_{end}"
 

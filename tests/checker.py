@@ -83,11 +83,17 @@ def check_candidate(plan: Mapping[str, Any], cand: Mapping[str, Any]) -> list[st
             continue
         if anchor["parent"] not in cand["parents"]:
             out.append(f"{cid}: anchor parent {anchor['parent']} missing from parents")
-        ax, e = anchor["axis"], (0 if anchor["end"] == "lo" else 1)
+        ax = anchor["axis"]
         pbox = parent["box"]
         want = pbox[0][ax] + anchor["ratio"] * (pbox[1][ax] - pbox[0][ax])
-        if box[e][ax] != want:  # the contract says ==, exactly
-            out.append(f"{cid}: {anchor['end']} of axis {ax} is {box[e][ax]!r}, anchor "
+        if anchor["end"] == "mid":  # the mid-plane: exact up to the rounding of the halving
+            got = (box[0][ax] + box[1][ax]) / 2.0
+            ok = abs(got - want) <= 4e-16 * max(1.0, abs(box[0][ax]), abs(box[1][ax]))
+        else:
+            got = box[0 if anchor["end"] == "lo" else 1][ax]
+            ok = got == want  # the contract says ==, exactly
+        if not ok:
+            out.append(f"{cid}: {anchor['end']} of axis {ax} is {got!r}, anchor "
                        f"{anchor['ratio']} of {anchor['parent']} gives {want!r}")
         anchored_ends[ax].add(anchor["end"])
     e_d = 0.0

@@ -146,10 +146,11 @@ def test_the_checker_can_fail(planned):
     plan = _fresh(planned)
     by_id = {c["id"]: c for c in plan["candidates"]}
     sel = plan["selection"]["selected"]
-    child = next(c for c in sel if by_id[c]["parents"])
-    gone = by_id[child]["parents"][0]
-    part = by_id[gone]["part"]
-    others = [c["id"] for c in plan["candidates"] if c["part"] == part and c["id"] != gone]
+    # (a parent whose part has another candidate: the start part has only its original)
+    gone, others = next(
+        (p, alt) for c in sel for p in by_id[c]["parents"]
+        if (alt := [o["id"] for o in plan["candidates"]
+                    if o["part"] == by_id[p]["part"] and o["id"] != p]))
     sel[sel.index(gone)] = next((o for o in others if by_id[o]["original"]), others[0])
     with pytest.raises(AssertionError, match="is selected but its parent"):
         contract.check_selection(plan)

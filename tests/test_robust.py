@@ -18,6 +18,7 @@ from typing import Callable
 
 import numpy as np
 import pytest
+import trimesh
 import yaml
 
 from h2s_print import cache as plan_cache
@@ -306,9 +307,21 @@ def test_ctrl_c_while_writing_leaves_old_outputs(built, capsys, monkeypatch):
 def test_ctrl_c_during_the_scip_solve_exits_130_and_caches_nothing(tmp_path):
     # SCIP catches SIGINT itself and returns status "userinterrupt"; h2s used to carry on with
     # the all-originals start solution, exit 0 and cache that plan.  The quadratic formulation
-    # with max_change 0.3 makes the train's solve take ~30 s, so the signal, sent 3 s after the
-    # last line before the solve ("N candidates for M parts"), lands inside SCIP.
+    # on a generated 80-box assembly (benchmarks/bench_select.py's model) makes the solve take
+    # well over 10 s, so the signal, sent 3 s after the last line before the solve ("N
+    # candidates for M parts"), lands inside SCIP.
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from bench_select import make_model
+    scene = trimesh.Scene()
+    for prim in make_model(80, 0):
+        lo, hi = np.asarray(prim.box[0]), np.asarray(prim.box[1])
+        mesh = trimesh.creation.box(extents=hi - lo)
+        mesh.apply_translation((lo + hi) / 2)
+        scene.add_geometry(mesh, node_name=prim.part, geom_name=prim.part)
+    (tmp_path / "slow.glb").write_bytes(scene.export(file_type="glb"))
     cfg = tutorial_copy(tmp_path, "train.yaml", name="slow",
+                        model={"path": str(tmp_path / "slow.glb"), "up": "z", "units": "mm",
+                               "parts": {"small": "keep"}},
                         solver={"formulation": "quadratic", "max_change": 0.3})
     out = tmp_path / "out"
     proc = subprocess.Popen([sys.executable, "-m", "h2s_print.cli", "-v", "build", str(cfg),
