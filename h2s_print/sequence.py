@@ -54,14 +54,17 @@ Decisions where the brief is open (kept here, in one place)
   4 side edges.  An edge none of whose faces is front-facing (seen from the camera position;
   occlusion by other parts is ignored: scaffolds are drawn "through") is kind
   ``scaffold_hidden`` -- the layout may dash it -- the others kind ``scaffold``.
-* **Eyeball rule** (paper §5 (ii)).  For each parent face a primitive step constructs on,
-  ``A_p / k`` is the face's projected area on the sheet (mm²) over the number ``k`` of distinct
-  lines drawn on it; the part is "eyeballed" when any of its faces falls below
-  ``settings.eyeball_mm2``, or when a face is seen almost edge-on: its projected width (its
-  projected area over its longest projected side) is under ``MIN_FACE_WIDTH_MM`` (3 mm),
-  whatever the threshold.  An eyeballed part gets no guides at any level, and the text says
-  where to put it by eye ("about a third of the way ...").  Ellipse steps use the same rule
-  with ``k = 4`` per end face.
+* **Eyeball rule** (paper §5 (ii), issue 10 point 1c).  For each parent face a primitive step
+  constructs on, ``A_p / k`` is the face's projected area on the sheet (mm²) over the number
+  ``k`` of distinct lines drawn on it *that need room on the face*: an alignment (ratio 0 or
+  1, :attr:`h2s_print.ratios.RatioEntry.needs_room` False) is an existing edge extended toward
+  its vanishing point and counts for nothing, so a face carrying only alignments is never
+  tested and a step whose anchors only align is never eyeballed.  The part is "eyeballed" when
+  any tested face falls below ``settings.eyeball_mm2``, or when a tested face is seen almost
+  edge-on: its projected width (its projected area over its longest projected side) is under
+  ``MIN_FACE_WIDTH_MM`` (3 mm), whatever the threshold.  An eyeballed part gets no guides at
+  any level, and the text says where to put it by eye ("about a third of the way ...").
+  Ellipse steps use the same rule with ``k = 4`` per end face.
   Parts without anchors are never eyeballed (there is nothing to construct).
 * **Left out** (paper §5 (iii)).  A part is *hidden* when :func:`~h2s_print.contours.final_contours`
   (all parts hide all parts) leaves it no polyline; a hidden part is left out unless it is an
@@ -859,7 +862,8 @@ class _Context:
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
             lines += own
-            faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
+            if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
+                faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con))
             if carry:
                 carried = True

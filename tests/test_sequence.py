@@ -699,3 +699,44 @@ def test_face_seen_almost_edge_on_is_eyeballed_whatever_the_threshold():
     assert width < seq.MIN_FACE_WIDTH_MM and eyeball and guides == 0, found
     width, eyeball, guides = found[30.0]
     assert width >= seq.MIN_FACE_WIDTH_MM and not eyeball and guides > 0, found
+
+
+def _align_only(cand) -> bool:
+    """Every anchor puts its end on an existing edge of the parent (ratio 0 or 1)."""
+    return bool(cand.anchors) and all(a.ratio in (0.0, 1.0) for a in cand.anchors)
+
+
+def test_edge_alignments_are_never_eyeballed(examples):
+    # An edge extended toward a vanishing point needs no room on a face (issue 10 point 1c):
+    # not even a threshold no face can meet eyeballs a step whose anchors are all at 0 or 1,
+    # while every step with a division or extrusion is eyeballed by it.
+    aligned = roomy = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for settings in (t.sequence, SequenceSettings(eyeball_mm2=1e12)):
+            vp = seq.sequence_view(plan, t.views[0], "novice", t.paper, settings)
+            for s in vp.steps[1:]:
+                if s.kind != "primitive":
+                    continue
+                if _align_only(chosen[s.part]):
+                    assert not s.eyeball and s.guides, (name, s.part, s.text)
+                    aligned += 1
+                elif settings.eyeball_mm2 == 1e12 and any(
+                        a.ratio not in (0.0, 1.0) and a.face_normal != a.axis
+                        for a in chosen[s.part].anchors):
+                    assert s.eyeball and not s.guides, (name, s.part)
+                    roomy += 1
+    assert aligned and roomy  # the roller's frame parts align; the camera's grip divides
+
+
+def test_alignment_on_a_face_seen_edge_on_is_not_eyeballed():
+    # As the edge-on test below, but the lid's left end aligns with the big box's left edge
+    # (ratio 0): the edge extended needs no room on the thin top face.
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "lid": ((-100, 20, 100), (60, 60, 110))}
+    plan = _tiny_plan(boxes, {"lid": ("big", [Anchor(0, "lo", "big", 0.0, 1, 2, "hi")])})
+    view = ViewSpec("e8", azimuth_deg=20.0, elevation_deg=8.0, distance=3.0, lens_mm=50.0,
+                    perspective="two-point")
+    step = next(s for s in seq.sequence_view(plan, view, "novice", PAPER,
+                                             SequenceSettings(eyeball_mm2=1e12)).steps
+                if s.part == "lid" and s.kind == "primitive")
+    assert not step.eyeball and any(g.role == "guide" for g in step.guides), step.text
