@@ -152,6 +152,12 @@ class RatioEntry:
         """True for ratios outside ``[0, 1]`` (the face is extended)."""
         return self.ratio < 0.0 or self.ratio > 1.0
 
+    @property
+    def needs_room(self) -> bool:
+        """False when the construction is only an existing edge extended (``align``: ratio 0
+        or 1), which needs no room on the face; True for every division or extrusion."""
+        return any(step.kind != "align" for step in self.construction)
+
 
 # --------------------------------------------------------------------------- constructions
 

@@ -10,13 +10,10 @@ DESIGN.md §2.6 and paper §5.  Public verbs:
 
 What a tutorial contains, in order
 ----------------------------------
-1. **Primitive steps** (kind ``primitive``), one per part, in *drawing order*: the topological
-   order of the anchoring graph of the selected candidates (parents first).  The first is the
-   biggest root that is not a ``custom`` primitive (when there is one).  Then, among the parts
-   whose parents are all drawn, anchored parts come before free ones (no anchor), the one
-   whose selected box centre is closest to the camera position first (ties: part name); a
-   free part waits until one of the parts whose box touches or overlaps its box is drawn (it
-   rests on or sits in it; when free parts only wait on each other the biggest starts).  Each
+1. **Primitive steps** (kind ``primitive``), one per part, in *drawing order*, coarse to fine
+   (paper §3 (ii); decisions below): the start part first, then a topological order of the
+   anchoring graph of the selected candidates (parents first), bigger before smaller wherever
+   the anchoring allows, nearest first among parts of similar size.  Each
    step's guides are built in 3D from its anchors: the ratio's construction
    (:func:`h2s_print.constructions.construct`) on the
    parent's *selected* box face named by the anchor; when the anchor leaves the side open
@@ -54,14 +51,42 @@ Decisions where the brief is open (kept here, in one place)
   4 side edges.  An edge none of whose faces is front-facing (seen from the camera position;
   occlusion by other parts is ignored: scaffolds are drawn "through") is kind
   ``scaffold_hidden`` -- the layout may dash it -- the others kind ``scaffold``.
-* **Eyeball rule** (paper §5 (ii)).  For each parent face a primitive step constructs on,
-  ``A_p / k`` is the face's projected area on the sheet (mm²) over the number ``k`` of distinct
-  lines drawn on it; the part is "eyeballed" when any of its faces falls below
-  ``settings.eyeball_mm2``, or when a face is seen almost edge-on: its projected width (its
-  projected area over its longest projected side) is under ``MIN_FACE_WIDTH_MM`` (3 mm),
-  whatever the threshold.  An eyeballed part gets no guides at any level, and the text says
-  where to put it by eye ("about a third of the way ...").  Ellipse steps use the same rule
-  with ``k = 4`` per end face.
+* **Drawing order** (issue 10 point 3, :func:`h2s_print.order.drawing_order`; sizes are
+  :func:`h2s_print.order.part_size`, the largest face, of the *selected* boxes; distances from
+  the camera position to the selected box centres).  Only the parts kept (see "Left out") are
+  ordered.
+
+  - *First*: the start part (:func:`h2s_print.order.start_part` of the fitted primitives: the
+    largest part, or a grounded one at least half as large), so the calibrated sheet's ground
+    plane is the object's ground.  If it is left out, the start part of the kept parts.  If the
+    selection hung it off other parts (it should make it a root), its ancestors come first, by
+    the rules below, then it; a log line says so.
+  - *Then*, among the *ready* parts (parents all drawn): a part's *reach* is the largest size
+    over itself and the undrawn parts that wait for it (descendants, and free parts still
+    waiting to rest on it); keep the ready parts whose reach is within a factor
+    :data:`~h2s_print.order.SIMILAR_FACTOR` (2) of the largest reach, of those the ones whose
+    own size is within 2 of the largest own size, and draw the nearest of those (the paper's
+    tie rule, §5 (i); then the name).  So a small parent of a big part comes early (the way to
+    the big part), an unrelated small part comes after bigger ones, and tiny details come
+    last.  Nearness only decides between parts within 2x of each other, a margin below the 4x
+    of a coarse-to-fine inversion.
+  - *Free parts* (no anchor) are placed by eye.  After the first step a free part waits until
+    one of the parts its box touches or overlaps (it rests on or sits in them) is drawn, as a
+    teacher puts the chimney on a drawn boiler; but it waits only on parts at most
+    :data:`~h2s_print.order.COARSER_FACTOR` (4) times smaller than itself and not anchored
+    off it (a big roller is not held back for its small axle: that would draw the small part
+    first), and free parts that only wait on each other are all ready.
+* **Eyeball rule** (paper §5 (ii), issue 10 point 1c).  For each parent face a primitive step
+  constructs on, ``A_p / k`` is the face's projected area on the sheet (mm²) over the number
+  ``k`` of distinct lines drawn on it *that need room on the face*: an alignment (ratio 0 or
+  1, :attr:`h2s_print.ratios.RatioEntry.needs_room` False) is an existing edge extended toward
+  its vanishing point and counts for nothing, so a face carrying only alignments is never
+  tested and a step whose anchors only align is never eyeballed.  The part is "eyeballed" when
+  any tested face falls below ``settings.eyeball_mm2``, or when a tested face is seen almost
+  edge-on: its projected width (its projected area over its longest projected side) is under
+  ``MIN_FACE_WIDTH_MM`` (3 mm), whatever the threshold.  An eyeballed part gets no guides at
+  any level, and the text says where to put it by eye ("about a third of the way ...").
+  Ellipse steps use the same rule with ``k = 4`` per end face.
   Parts without anchors are never eyeballed (there is nothing to construct).
 * **Left out** (paper §5 (iii)).  A part is *hidden* when :func:`~h2s_print.contours.final_contours`
   (all parts hide all parts) leaves it no polyline; a hidden part is left out unless it is an
@@ -70,9 +95,11 @@ Decisions where the brief is open (kept here, in one place)
   ``apprentice`` the resulting lines and the alignment lines that carry them (``guide``,
   ``vanishing``), ``master`` none.  All three have the same steps, in the same order, with the
   same texts (the text always says what to construct).  ``basic`` is the paper's control
-  tutorial: the fitted (original) primitives from largest to smallest box volume (ties: name),
-  kind ``basic``, eyeball True, no guides at all, no adjustment; then ellipses (no guides) and
-  contours of the unadjusted meshes in that order; hidden parts are left out.
+  tutorial: the fitted (original) primitives, the start part first (as the guided order; the
+  paper's control also starts on the ground plane), then from largest to smallest
+  :func:`h2s_print.order.part_size` of the fitted box (ties: name), kind ``basic``, eyeball
+  True, no guides at all, no adjustment; then ellipses (no guides) and contours of the
+  unadjusted meshes in that order; hidden parts are left out.
 * **Guide identity and lifetime** (paper §5).  Two lines are the same guide when they are the
   same 3D segment up to endpoint order, within ``MERGE_TOL`` × the model's bounding-box
   diagonal (collinear but different segments stay different guides: they are different pencil
@@ -113,6 +140,7 @@ from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
 from .contours import adjust_part, final_contours, trace_contours, visible_points
 from .errors import SelectionError
+from .order import drawing_order, part_size, start_part
 from .project import make_camera, vanishing_points, vp_side
 from .ratios import entry_for
 from .types import Box, Camera, Guide, Part, Step, Stroke, VanishingPoint, Vec3, ViewPlan
@@ -193,10 +221,6 @@ def _tiny_loop(mm: np.ndarray) -> bool:
         return False
     ext = mm.max(axis=0) - mm.min(axis=0)
     return float(max(ext[0], ext[1])) < TINY_LOOP_MM
-
-
-def _volume(box: Box) -> float:
-    return _extent(box, 0) * _extent(box, 1) * _extent(box, 2)
 
 
 def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
@@ -755,42 +779,49 @@ class _Context:
     _box_steps: dict[str, int] = field(default_factory=dict)
 
     # -------------------------------------------------------------- order and visibility
-    def guided_order(self) -> list[str]:
-        """Drawing order of the primitives (module docstring, "drawing order")."""
-        parents = {part: sorted({self.by_id[pid].part for pid in c.parents})
-                   for part, c in self.chosen.items()}
-        touch = {part: _touching(part, self.chosen, 100.0 * self.tol)
-                 for part, c in self.chosen.items() if not c.anchors}
+    def guided_order(self, keep: Iterable[str] | None = None) -> list[str]:
+        """Drawing order of the kept primitives (all selected ones when ``keep`` is None):
+        :func:`h2s_print.order.drawing_order` on the selected boxes (module docstring,
+        "drawing order").
+
+        Raises:
+            SelectionError: the anchoring graph has a cycle.
+        """
+        names = sorted(self.chosen if keep is None else set(keep))
+        kept = set(names)
+        parents = {p: sorted({self.by_id[pid].part for pid in self.chosen[p].parents} & kept)
+                   for p in names}
+        rests_on = {p: [q for q in _touching(p, self.chosen, 100.0 * self.tol) if q in kept]
+                    for p in names if not self.chosen[p].anchors}
         cam = np.asarray(self.camera.position, dtype=float)
-        dist = {part: float(np.linalg.norm(np.mean(np.asarray(c.box, dtype=float), axis=0) - cam))
-                for part, c in self.chosen.items()}
-        placed: list[str] = []
-        done: set[str] = set()
-        remaining = set(self.chosen)
-        while remaining:
-            if placed:  # a free part waits for one of the parts it touches (rests on)
-                ready = [p for p in remaining if all(q in done for q in parents[p])
-                         and (p not in touch or not touch[p] or done & set(touch[p]))]
-            else:
-                ready = [p for p in remaining if not self.chosen[p].anchors]
-            if not ready:  # free parts waiting on each other: the biggest starts
-                ready = [p for p in remaining if p in touch]
-                if not ready:
-                    raise SelectionError(
-                        f"the anchoring graph has a cycle among {sorted(remaining)}")
-                first = True
-            else:
-                first = not placed
-            if not first:
-                nxt = min(ready, key=lambda p: (not self.chosen[p].anchors, dist[p], p))
-            else:  # the first primitive: the biggest fitted root (the body), as a person would
-                # start; also the biggest of free parts waiting on each other
-                nxt = min(ready, key=lambda p: (self.plan.primitive(p).type == "custom",
-                                                -_volume(self.chosen[p].box), dist[p], p))
-            placed.append(nxt)
-            done.add(nxt)
-            remaining.discard(nxt)
-        return placed
+        dist = {p: float(np.linalg.norm(np.mean(np.asarray(self.chosen[p].box, dtype=float),
+                                                axis=0) - cam)) for p in names}
+        sizes = {p: part_size(self.chosen[p].box) for p in names}
+        first = self.start(kept)
+        if first is not None and self.chosen[first].anchors:
+            log.info("start part %s hangs off %s (not a root): its ancestors are drawn first",
+                     first, ", ".join(parents[first]))
+        try:
+            return drawing_order(sizes, parents, dist, first, rests_on)
+        except ValueError as err:
+            raise SelectionError(str(err)) from None
+
+    def start(self, keep: set[str]) -> str | None:
+        """The start part (:func:`h2s_print.order.start_part` of the fitted primitives); when
+        it is left out (hidden, anchoring nothing visible), the start part of the kept ones."""
+        first = start_part(self.plan.primitives)
+        if first is not None and first not in keep:
+            fallback = start_part([self.plan.primitive(p) for p in sorted(keep)])
+            log.info("start part %s is not drawn (hidden); starting from %s", first, fallback)
+            first = fallback
+        return first
+
+    def basic_order(self, keep: set[str]) -> list[str]:
+        """The control tutorial's order of the kept parts (fitted boxes, no anchoring): the
+        start part (:meth:`start`), then the others from largest to smallest
+        :func:`h2s_print.order.part_size` of the fitted box (ties: name)."""
+        first = self.start(keep)
+        return sorted(keep, key=lambda n: (n != first, -part_size(self.plan.primitive(n).box), n))
 
     def finals(self, parts: dict[str, Part]) -> dict[str, tuple[Stroke, ...]]:
         """Each part's strokes in the finished drawing (:func:`final_strokes`), by name."""
@@ -859,7 +890,8 @@ class _Context:
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
             lines += own
-            faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
+            if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
+                faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con))
             if carry:
                 carried = True
@@ -957,7 +989,7 @@ class _Context:
     def guided(self) -> tuple[_Draft, ...]:
         if self._guided is None:
             keep = self.kept(self.adjusted, anchoring=True)
-            order = [p for p in self.guided_order() if p in keep]
+            order = self.guided_order(keep)
             described: list[tuple[Vec3, Vec3, int, Any]] = []
             drafts = [self.primitive_draft(p, i == 0, i + 1, described)
                       for i, p in enumerate(order)]
@@ -972,7 +1004,7 @@ class _Context:
         if self._basic is None:
             keep = self.kept(self.originals, anchoring=False)
 
-            order = sorted(keep, key=lambda p: (-_volume(self.plan.primitive(p).box), p))
+            order = self.basic_order(keep)
             drafts: list[_Draft] = []
             for i, p in enumerate(order):
                 prim = self.plan.primitive(p)

@@ -18,6 +18,7 @@ from h2s_print import sequence as seq
 from h2s_print.candidates import Anchor, Candidate
 from h2s_print.config import PaperSpec, SequenceSettings, SolverSettings, ViewSpec, load_tutorial
 from h2s_print.plan import Plan, build_plan, view_json
+from h2s_print.ratios import entry_for
 from h2s_print.select import Selection
 from h2s_print.types import Model, Part, Primitive, readonly
 
@@ -182,39 +183,159 @@ def _touch(chosen, part) -> set[str]:
     return out
 
 
-def test_order_prefers_anchored_parts_then_distance(examples):
-    checked_free = 0
+def _size(box) -> float:
+    """Largest face of a box (the issue's size of a part), model units squared."""
+    e = np.subtract(box[1], box[0])
+    return float(max(e[0] * e[1], e[1] * e[2], e[0] * e[2]))
+
+
+def _start_part(plan) -> str:
+    """The teacher's start part, by its definition (issue 10 point 3): the largest fitted part,
+    or the largest grounded one (box bottom within 3 % of the model's height of its bottom)
+    when it is at least half as large."""
+    prims = list(plan.primitives)
+    floor = min(p.box[0][2] for p in prims)
+    height = max(p.box[1][2] for p in prims) - floor
+    fitted = sorted((p for p in prims if p.type != "custom"), key=lambda p: p.part)
+    largest = max(fitted, key=lambda p: _size(p.box))  # max keeps the first (name) of equals
+    grounded = [p for p in fitted if p.box[0][2] - floor <= 0.03 * height]
+    if grounded:
+        best = max(grounded, key=lambda p: _size(p.box))
+        if _size(best.box) >= 0.5 * _size(largest.box):
+            return best.part
+    return largest.part
+
+
+def _ancestors(parents: dict[str, set[str]], part: str) -> set[str]:
+    out, stack = set(), list(parents[part])
+    while stack:
+        q = stack.pop()
+        if q not in out:
+            out.add(q)
+            stack.extend(parents[q])
+    return out
+
+
+def test_first_step_is_the_start_part(examples):
+    rooted = 0
+    for name, t, plan, vp in _all_views(examples):
+        order = _primitive_parts(vp)
+        start = _start_part(plan)
+        if vp.level == "basic" or not plan.chosen()[start].anchors:
+            assert order[0] == start, (name, vp.name, vp.level, order)
+            rooted += vp.level != "basic"
+            continue
+        # The selection hung the start part off other parts (it should make it a root): its
+        # ancestors must come first, then the start part itself, before anything else.
+        up = _ancestors(_parents(plan), start)
+        assert set(order[:len(up)]) == up and order[len(up)] == start, (name, vp.name, order)
+    assert rooted  # the camera's body and the roller are roots: the plain rule is checked
+
+
+def _inversions(plan, order) -> list[tuple[str, str]]:
+    """Pairs (a, b), a drawn before b after the first step, b's largest face over 4x a's,
+    neither an ancestor of the other (issue 10 point 3, DESIGN.md §5)."""
+    chosen, parents = plan.chosen(), _parents(plan)
+    out = []
+    for i in range(1, len(order)):
+        for b in order[i + 1:]:
+            a = order[i]
+            if (_size(chosen[b].box) > 4 * _size(chosen[a].box)
+                    and a not in _ancestors(parents, b) and b not in _ancestors(parents, a)):
+                out.append((a, b))
+    return out
+
+
+def test_no_coarse_to_fine_inversion_after_the_first_step(examples):
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "basic":
+            assert not _inversions(plan, _primitive_parts(vp)), (name, vp.name, vp.level)
+    # the check can fail: the old order drew the camera's shutter button before its lens
+    t, plan, views = examples["camera"]
+    assert ("shutter_button", "lens") in _inversions(
+        plan, ["body", "grip", "shutter_button", "lens", "prism", "flash"])
+
+
+def test_order_follows_the_documented_rule(examples):
+    """Re-simulates the module docstring's drawing order (no code shared with the stage)."""
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
             continue
-        chosen = plan.chosen()
-        parents = _parents(plan)
+        chosen, order = plan.chosen(), _primitive_parts(vp)
+        parents = {p: q & set(order) for p, q in _parents(plan).items() if p in order}
+        kids = {p: {c for c in order if p in parents[c]} for p in order}
+        size = {p: _size(chosen[p].box) for p in order}
         cam = np.array(vp.camera.position)
-        dist = {p: float(np.linalg.norm((np.array(c.box[0]) + np.array(c.box[1])) / 2 - cam))
-                for p, c in chosen.items()}
-        order = _primitive_parts(vp)
-        # The first primitive is the biggest fitted (non-custom) root (documented).
-        roots = [p for p in order if not chosen[p].anchors]
-        fitted = [p for p in roots if plan.primitive(p).type != "custom"] or roots
-        vol = {p: float(np.prod(np.subtract(chosen[p].box[1], chosen[p].box[0]))) for p in order}
-        assert order[0] in fitted and vol[order[0]] == max(vol[p] for p in fitted)
-        for i in range(1, len(order)):
+        dist = {p: float(np.linalg.norm((np.array(chosen[p].box[0]) + np.array(chosen[p].box[1]))
+                                        / 2 - cam)) for p in order}
+        below = {p: set() for p in order}
+        for p in order:
+            for q in _ancestors(parents, p):
+                below[q].add(p)
+        waits = {p: {q for q in _touch(chosen, p) & set(order)
+                     if q not in below[p] and 4 * size[q] >= size[p]}
+                 for p in order if not parents[p]}
+        start = _start_part(plan)
+        chain = _ancestors(parents, start) | {start}
+        for i, part in enumerate(order):
             done = set(order[:i])
-            anchored_ready = [p for p in order[i:] if chosen[p].anchors and parents[p] <= done]
-            if chosen[order[i]].anchors:
-                # the closest of the anchored parts whose parents are all drawn
-                assert dist[order[i]] <= min(dist[p] for p in anchored_ready), (name, order[i])
+            roots = [p for p in order[i:] if parents[p] <= done]
+            if start not in done:
+                ready = [p for p in roots if p in chain]
+            elif i == 0:
+                ready = roots
             else:
-                # a free part only when no anchored part is ready ...
-                assert not anchored_ready, (name, vp.name, order[i], anchored_ready)
-                # ... and (unless free parts wait on each other) after a part it touches
-                touch = _touch(chosen, order[i]) & set(order)
-                waiting = [p for p in order[i:] if not chosen[p].anchors]
-                if touch and not (touch & done):
-                    assert all(_touch(chosen, p) & set(order) and not (_touch(chosen, p) & done)
-                               for p in waiting), (name, vp.name, order[i])
-                checked_free += 1
-    assert checked_free  # the train's boiler and chimney are free parts
+                ready = [p for p in roots if not waits.get(p) or waits[p] & done] or roots
+            waiting = {f for f in order[i:] if waits.get(f) and not waits[f] & done}
+
+            def reach(p):
+                seen, stack = {p}, [p]
+                while stack:
+                    q = stack.pop()
+                    for c in (kids[q] - done) | {f for f in waiting if q in waits[f]}:
+                        if c not in seen:
+                            seen.add(c)
+                            stack.append(c)
+                return max(size[c] for c in seen)
+
+            top = max(reach(p) for p in ready)
+            near = [p for p in ready if 2 * reach(p) >= top]
+            big = max(size[p] for p in near)
+            near = [p for p in near if 2 * size[p] >= big]
+            assert part == min(near, key=lambda p: (dist[p], p)), (name, vp.name, i, part, near)
+
+
+def _anchor(axis, end, parent, ratio, face_normal, side="lo"):
+    return Anchor(axis, end, parent, ratio, entry_for(ratio).guide_lines, face_normal, side)
+
+
+def test_big_part_before_a_nearer_small_unrelated_one():
+    # Both hang off the body and are ready after step 1: the small knob sits on the body's
+    # front (nearest to the camera), the big tank stands against its right side, further
+    # back; the tank's largest face (80 x 100 = 8000) is 20x the knob's (20 x 20 = 400): the
+    # tank comes first.
+    boxes = {"body": ((-100, 0, 0), (100, 100, 100)), "knob": ((0, -20, 40), (20, 0, 60)),
+             "tank": ((100, 0, 0), (180, 100, 80))}
+    plan = _tiny_plan(boxes, {"knob": ("body", [_anchor(0, "lo", "body", 0.5, 1)]),
+                              "tank": ("body", [_anchor(0, "lo", "body", 1.0, 1)])})
+    vp = seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings())
+    cam = np.array(vp.camera.position)
+    centre = {p: (np.array(b[0]) + np.array(b[1])) / 2 for p, b in boxes.items()}
+    assert np.linalg.norm(centre["knob"] - cam) < np.linalg.norm(centre["tank"] - cam)
+    assert _primitive_parts(vp) == ["body", "tank", "knob"]
+
+
+def test_small_parent_of_a_big_part_comes_early():
+    # The post (400) hangs off the body and carries the big shelf (200 x 100 = 20000); the
+    # crate (60 x 50 = 3000) hangs off the body too, nearer to the camera than the post.  The
+    # post leads to the biggest part, so post and shelf come before the crate.
+    boxes = {"body": ((-100, 0, 0), (100, 100, 100)), "post": ((0, 40, 100), (20, 60, 120)),
+             "shelf": ((-100, 0, 120), (100, 100, 130)), "crate": ((-60, -50, 0), (0, 0, 50))}
+    plan = _tiny_plan(boxes, {"post": ("body", [_anchor(2, "lo", "body", 1.0, 1)]),
+                              "shelf": ("post", [_anchor(2, "lo", "post", 1.0, 1)]),
+                              "crate": ("body", [_anchor(2, "lo", "body", 0.0, 1)])})
+    vp = seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings())
+    assert _primitive_parts(vp) == ["body", "post", "shelf", "crate"]
 
 
 def test_free_part_comes_after_the_part_it_sits_in(examples):
@@ -423,17 +544,17 @@ def test_levels_show_nested_guides_with_the_same_steps(examples):
             assert sum(len(s.guides) for s in app.steps) < sum(len(s.guides) for s in nov.steps)
 
 
-def test_basic_has_no_guides_and_draws_the_original_boxes_largest_first(examples):
+def test_basic_has_no_guides_and_draws_the_original_boxes_start_then_largest(examples):
     for name, (t, plan, views) in examples.items():
         for view in t.views:
             vp = views[(view.name, "basic")]
             assert all(not s.guides and not s.alive for s in vp.steps)
             prims = [s for s in vp.steps if s.kind == "basic"]
             assert prims and all(s.eyeball for s in prims)
-            vols = []
+            sizes = []
             for s in prims:
                 box = np.array(plan.primitive(s.part).box)
-                vols.append(float(np.prod(box[1] - box[0])))
+                sizes.append(_size(box))
                 pts = np.array([p for st in s.strokes for p in st.points3d])
                 span = box[1] - box[0]
                 tol = 1e-9 * float(np.linalg.norm(span)) + 1e-12
@@ -446,7 +567,10 @@ def test_basic_has_no_guides_and_draws_the_original_boxes_largest_first(examples
                     if ptype == "frustum" and ax != plan.primitive(s.part).axis:
                         continue  # the wider end spans the box (up to the fit's rounding)
                     assert abs(pts[:, ax].min() - box[0][ax]) <= tol and abs(pts[:, ax].max() - box[1][ax]) <= tol
-            assert vols == sorted(vols, reverse=True)
+            # the start part first (the paper's control starts on the ground plane too), then
+            # largest face first
+            assert prims[0].part == _start_part(plan), (name, view.name)
+            assert sizes[1:] == sorted(sizes[1:], reverse=True)
             cont = [s.part for s in vp.steps if s.kind == "contour"]
             assert set(cont) <= {s.part for s in prims}  # contours go front to back
 
@@ -699,3 +823,44 @@ def test_face_seen_almost_edge_on_is_eyeballed_whatever_the_threshold():
     assert width < seq.MIN_FACE_WIDTH_MM and eyeball and guides == 0, found
     width, eyeball, guides = found[30.0]
     assert width >= seq.MIN_FACE_WIDTH_MM and not eyeball and guides > 0, found
+
+
+def _align_only(cand) -> bool:
+    """Every anchor puts its end on an existing edge of the parent (ratio 0 or 1)."""
+    return bool(cand.anchors) and all(a.ratio in (0.0, 1.0) for a in cand.anchors)
+
+
+def test_edge_alignments_are_never_eyeballed(examples):
+    # An edge extended toward a vanishing point needs no room on a face (issue 10 point 1c):
+    # not even a threshold no face can meet eyeballs a step whose anchors are all at 0 or 1,
+    # while every step with a division or extrusion is eyeballed by it.
+    aligned = roomy = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for settings in (t.sequence, SequenceSettings(eyeball_mm2=1e12)):
+            vp = seq.sequence_view(plan, t.views[0], "novice", t.paper, settings)
+            for s in vp.steps[1:]:
+                if s.kind != "primitive":
+                    continue
+                if _align_only(chosen[s.part]):
+                    assert not s.eyeball and s.guides, (name, s.part, s.text)
+                    aligned += 1
+                elif settings.eyeball_mm2 == 1e12 and any(
+                        a.ratio not in (0.0, 1.0) and a.face_normal != a.axis
+                        for a in chosen[s.part].anchors):
+                    assert s.eyeball and not s.guides, (name, s.part)
+                    roomy += 1
+    assert aligned and roomy  # the roller's frame parts align; the camera's grip divides
+
+
+def test_alignment_on_a_face_seen_edge_on_is_not_eyeballed():
+    # As the edge-on test below, but the lid's left end aligns with the big box's left edge
+    # (ratio 0): the edge extended needs no room on the thin top face.
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "lid": ((-100, 20, 100), (60, 60, 110))}
+    plan = _tiny_plan(boxes, {"lid": ("big", [Anchor(0, "lo", "big", 0.0, 1, 2, "hi")])})
+    view = ViewSpec("e8", azimuth_deg=20.0, elevation_deg=8.0, distance=3.0, lens_mm=50.0,
+                    perspective="two-point")
+    step = next(s for s in seq.sequence_view(plan, view, "novice", PAPER,
+                                             SequenceSettings(eyeball_mm2=1e12)).steps
+                if s.part == "lid" and s.kind == "primitive")
+    assert not step.eyeball and any(g.role == "guide" for g in step.guides), step.text
