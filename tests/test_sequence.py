@@ -499,9 +499,13 @@ def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
                 if a.face_normal == a.axis:
                     continue
                 pbox = by_id[a.parent].box
-                e = 0 if a.end == "lo" else 1
                 value = pbox[0][a.axis] + a.ratio * (pbox[1][a.axis] - pbox[0][a.axis])
-                assert cand.box[e][a.axis] == value  # the plan.json contract itself
+                if a.end == "mid":  # the part's mid-plane, to one rounding of the halving
+                    mid = (cand.box[0][a.axis] + cand.box[1][a.axis]) / 2
+                    assert mid == pytest.approx(value, rel=1e-15, abs=1e-12)
+                else:
+                    e = 0 if a.end == "lo" else 1
+                    assert cand.box[e][a.axis] == value  # the plan.json contract itself
                 hits = []
                 for g in step.guides:
                     if g.role != "guide":
