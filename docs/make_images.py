@@ -28,12 +28,17 @@ def main() -> None:
                              final=result.finals[0])
     steps = [p for p in pages if p.kind == "steps"]
     first = {}  # first step page of each step kind
+    chosen = result.plan.chosen()
     for page, step in zip(steps, view.steps):
         first.setdefault(step.kind, page)
+        if (step.kind == "primitive" and not step.eyeball and step.part
+                and any(a.end == "mid" for a in chosen[step.part].anchors)):
+            first.setdefault("midplane", page)  # a part centred on a common bisector plane
     wanted = {
         "page-cover": next(p for p in pages if p.kind == "cover"),
         "page-primer": next(p for p in pages if p.kind == "primer"),
         "page-step-anchored": steps[1],
+        "page-step-midplane": first["midplane"],
         "page-step-ellipse": first["ellipse"],
         "page-step-contour": first["contour"],
         "page-final": next(p for p in pages if p.kind == "final"),

@@ -912,6 +912,11 @@ class _Context:
                                              step, self.tol)) + _unique(flat_sentences)
         if carried:
             parts.append(_t("primitive.carry", part=part))
+        for anchor in cand.anchors:  # a mid-plane anchor: the part straddles its guide line
+            if anchor.end == "mid" and anchor.face_normal != anchor.axis:
+                parts.append(_t("primitive.centred", part=part,
+                                lo=words.side(anchor.axis, "lo"),
+                                hi=words.side(anchor.axis, "hi")))
         parts.append(_t("primitive.place", part=part, shape=shape))
         if by_eye:
             parts.append(by_eye)
