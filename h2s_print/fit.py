@@ -3,8 +3,9 @@
 Every part is approximated by an axis-aligned primitive: a plane (a thin slab), a cuboid, a
 cylinder along x, y or z, or a frustum (truncated pyramid: two axis-aligned rectangles with a
 common centre line along x, y or z, linearly interpolated between them).  Each type is fitted by
-least squares to the same surface samples and the fit with the least score wins, the simpler
-type winning near-ties.  A part nothing fits well becomes ``custom``.
+least squares to the same surface samples, *inside the part's bounding box*, and the admissible
+fit with the least score wins, the simpler type winning near-ties.  A part nothing fits well
+becomes ``custom``.
 
 Samples.  ``n_samples`` points are drawn on the part's surface, area-weighted, with a fixed seed
 (:data:`SEED`), together with the normals of the triangles they lie on.  The sampling depends
@@ -14,16 +15,41 @@ centre at the origin, its diagonal of length 1), so residuals do not depend on t
 scale, and the result is mapped back to model units.
 
 Score and residual.  Each type is fitted by least squares (every axis for the plane, the
-cylinder and the frustum): the *score* is the RMS of the distances from the samples to the fitted
-primitive's *surface* (signed distance functions: exact for the cuboid and the closed cylinder,
-caps included; for the frustum the largest signed distance to its six face planes inside, exact,
-and the root-sum-square of the positive ones outside, exact for a box and an approximation near a
-tapered frustum's edges), divided by the part's bounding-box diagonal.  A plane's score is
+cylinder and the frustum; bounded, see *Bounds*): the *score* is the RMS of the distances from
+the samples to the fitted primitive's *surface* (signed distance functions: exact for the cuboid
+and the closed cylinder, caps included; for the frustum the largest signed distance to its six
+face planes inside, exact, and the root-sum-square of the positive ones outside, exact for a box
+and an approximation near a tapered frustum's edges), divided by the part's bounding-box
+diagonal.  A plane's score is
 measured to its mid-plane (the sample mean along the normal, the least-squares plane of that
 orientation), so a thin board or disc fits a plane.  The score says how well the *shape* matches
 the type and decides the type (below).  ``Primitive.residual`` is the same RMS measured to the
-primitive actually reported (its box enclosing the part, next paragraph), so it describes what
-is drawn; it is at least the score.
+primitive actually reported (its box enclosing the part, *Boxes*), so it describes what is
+drawn; it is at least the score.
+
+Bounds: every fit lies in the part's bounding box.  An unbounded least-squares fit may leave the
+part far behind (issue 10.2, measured on 194 parts of public models: 29 boxes reached beyond
+their part's bounding box by more than 1 % of its diagonal, a frustum by 8.9 diagonals, a
+cylinder fitted to an arc by 6.8): a cap no sample lies on costs nothing wherever it goes and
+drags a tapered end along, and the least-squares circle of an arc has its centre far outside the
+part; a flat face fits a circle of any size (on the examples and shared models, 211 of all
+candidate fits reached more than 1 % beyond their part, the worst a cylinder 4e6 diagonals
+wide).  So each fit runs on parameters in a box (trust-region reflective least squares), chosen
+so that every primitive in that box lies in the part's bounding box, grown by :data:`ENCLOSE`
+across the axis (a tessellated circle's least-squares radius exceeds its inradius):
+
+* **cuboid** (the score only): its six faces, each within that grown box;
+* **cylinder**: both caps within the part's extent along the axis; radius ``r`` in
+  ``[0, min(Hu, Hv)]`` and centre ``cu = a (Hu - r)``, ``a`` in [-1, 1] (the same for ``v``),
+  ``H`` being the bounding box's half-size plus ``ENCLOSE``: exactly the circles whose bounding
+  square lies within.  An arc's bounded circle fits it badly, and the cuboid wins;
+* **frustum**: caps within the part's extent; the side planes are given by their half-sizes at
+  the part's two extreme coordinates along the axis (*stations*), so no end is extrapolated
+  beyond the part; one station carries the *larger end* for both side pairs (a truncated
+  pyramid narrows towards one end; a part narrowing along ``u`` and widening along ``v`` is not
+  one), its half-sizes ``M`` in ``[0, H]``, the smaller end's ``rho M`` with ``rho`` in [0, 1], the
+  centre line ``c = a (H - M)`` as for the cylinder.  Which station is the larger end is decided
+  before the fit, from a line fit of each side pair's half-width along the axis.
 
 Boxes: the scaffold encloses the part.  A least-squares box sits *inside* a hollow or open part
 (a drawer, an oven's body: samples on the inner walls pull it inward by up to half the wall
@@ -36,8 +62,27 @@ it.  Hence:
   move out; across it each interval becomes the union of the fitted one and the bounding box's
   (less ``ENCLOSE``), re-centred on that union (a cylinder's radius is half the larger of its two
   cross extents, so its box stays square; a frustum's two end rectangles scale together, so the
-  taper is kept).  The tolerance leaves a tessellated circle or a noisy surface their fitted
-  size.
+  taper is kept; the ends are the fitted side planes at the caps, which lie in the part's
+  extent).  The tolerance leaves a tessellated circle or a noisy surface their fitted size.
+
+Admissible: a fit is reported only if
+
+* its box reaches no farther than :data:`INSIDE` (1 % of the diagonal) beyond the part's
+  bounding box.  The cuboid's, the plane's and a custom part's box *is* the bounding box, and
+  the bounds keep a frustum's within ``ENCLOSE``; a cylinder's box is square across its axis,
+  so it both encloses the part and stays within only if the part's two cross extents differ by
+  at most about ``2 (INSIDE + ENCLOSE)`` = 3 % of the diagonal.  The check runs on every box;
+* for a **frustum**, its taper is real: in at least one side pair the smaller end's half-size
+  is at most ``1 - TAPER`` of the larger's (:data:`TAPER` = 15 %; the ends measured at the
+  reported caps), and the part is not a **thin slab** along the axis: its extent there is at
+  least :data:`SLAB` (1/8) of the smaller of its other two extents (a slab's frustum is not
+  even fitted).  The frustum must also beat the simpler solids' scores by the tie tolerance
+  (rule 2), so "real" means both visibly tapered and clearly better than a box.
+
+A fit that is not admissible is dropped, not clipped: a box cut down to the bounding box would
+no longer be that primitive, and a cylinder too small to enclose its part would break the
+contacts the enclosing box is for.  The next best type is chosen instead, at worst the cuboid
+(the bounding box, always admissible), so every reported box lies within ``INSIDE``.
 
 Choice (by score):
 
@@ -45,14 +90,15 @@ Choice (by score):
    its score, in model units) is at most ``plane_thickness`` times the smaller of its two
    in-plane extents (default 1/25).  Measured against the smaller side, not the diagonal, so a
    thin *strip* (9 x 25 x 368 mm) stays a cuboid while a 6 mm seat board of 256 mm is a plane.
-2. Otherwise the **solids** (cuboid, cylinder, frustum; each on its best axis, ties to the lowest
-   axis) compete: least score wins, and a simpler one wins when its score is at most
-   ``(1 + tie_tolerance)`` times the least (default 1.25), or both are exact (below 1e-6).
+2. Otherwise the **solids** (cuboid, cylinder, frustum; each on its best admissible axis, ties
+   to the lowest axis; a type with no admissible axis drops out) compete: least score wins,
+   and a simpler one wins when its score is at most ``(1 + tie_tolerance)`` times the least
+   (default 1.25), or both are exact (below 1e-6).
    The tie is relative because a round part's misfit to a box is a fraction of its *radius*:
    in diagonal units it shrinks with elongation, and an absolute tie would call a long dowel a
    cuboid.  A cuboid and a frustum with no taper fit a box equally well: the cuboid wins.
-3. If the best score of all fits is above ``custom_above`` (default 0.05), the part is
-   ``custom``: axis ``None``, box = the part's bounding box, residual = that box's (the
+3. If the best score of all admissible fits is above ``custom_above`` (default 0.05), the
+   part is ``custom``: axis ``None``, box = the part's bounding box, residual = that box's (the
    cuboid's) residual, ``detail = {"nearest": type}``.
 
 Choosing by score, not residual, is deliberate: a hollow box scores as a box (measured: the
@@ -64,15 +110,24 @@ Decisions recorded here (the brief left them open), measured with the defaults:
 
 * A plane's box is the part's bounding box (the slab keeps its thickness, so anchoring still
   sees it); ``detail["offset"]`` is the mid-plane coordinate (mean of the samples).
-* A coarse regular 8-sided (and 6-sided) prism fits a **cylinder**: score 0.0055 (0.010) of
-  the diagonal against 0.020 (0.022) for a box.  A 4-sided one is a cuboid.
+* A coarse regular 8-sided prism fits a **cylinder**: score 0.0055 of the diagonal against
+  0.020 for a box.  A 6-sided one is a cuboid: its cross extents (corner to corner 2, flat to
+  flat 1.73) differ too much for a square box (not admissible); so are the oven's oval push
+  buttons (19.3 x 21.4 mm across; a square box 0.9 mm beyond a side, 2.8 % of the diagonal).
+  A 4-sided one is a cuboid.
 * Closed round blobs are **not** called cylinders or frusta: a sphere comes out a cuboid (its
   bounding cube, score ~0.029, the cylinder's 0.0235 being within the tie), and so does a
   torus (~0.021).  Their scores say honestly that the fit is poor; a caller who wants them
-  ``custom`` lowers ``custom_above`` to 0.02.  Only very non-convex parts (a 3-D cross, ~0.066)
+  ``custom`` lowers ``custom_above`` to 0.02.  Only very non-convex parts (a 3-D cross, ~0.069)
   are custom by default: a surface score cannot see that a U-shaped frame is not solid
   (0.009), and a box is the scaffold a sketcher would draw around it anyway.
 * Score ties between axes of one type go to the lowest axis.
+* ``TAPER`` = 15 %: one end 15 % narrower than the other is a side slope of 4.3 degrees on a
+  cube, seen in a drawing; moulding drafts of 1-2 degrees (3.5-7 % on a cube) are drawn as
+  boxes.  The examples' frusta taper far more (the camera's prism 36 %, the mixer's bowl 51 %).
+* ``SLAB`` = 1/8: an open tray 1.6 wide and 0.3 deep (0.19) is a frustum; a 10 mm board of
+  100 mm with a chamfer (0.1) is not, its few side samples setting a steep taper on a plate.
+  The examples' frusta are far from it (the prism 0.51, the bowl 0.78).
 """
 
 from __future__ import annotations
@@ -103,6 +158,14 @@ CUSTOM_ABOVE = 0.05
 #: A cylinder's or frustum's box side may lie this far (diagonal units) inside the part's
 #: bounding box (tessellation and noise), no farther: it is grown until it does.
 ENCLOSE = 0.005
+#: No reported box reaches farther than this (diagonal units) beyond the part's bounding box.
+INSIDE = 0.01
+#: A frustum's taper is real when one side pair's smaller end is at most ``1 - TAPER`` of its
+#: larger end (module docstring, *Admissible*).
+TAPER = 0.15
+#: A part is a thin slab along an axis (never a frustum there) when its extent along it is
+#: less than this fraction of the smaller of its other two extents.
+SLAB = 0.125
 
 
 # ----------------------------------------------------------------------------- sampling
@@ -186,14 +249,17 @@ def _cylinder_parts(u, v, h, x) -> tuple[np.ndarray, np.ndarray]:
     return d, g
 
 
-def _frustum_parts(u, v, h, x) -> tuple[np.ndarray, np.ndarray]:
+def _frustum_parts(u, v, h, x, s0: float, s1: float) -> tuple[np.ndarray, np.ndarray]:
     """Frustum: two side-plane pairs (|u|, |v| folded) and two caps.
 
-    x = (cu, cv, hu0, hv0, hu1, hv1, lo, hi): centre line, half-sizes at ``lo`` and at ``hi``.
+    x = (cu, cv, hu0, hv0, hu1, hv1, lo, hi): centre line, the side planes' half-sizes at the
+    fixed stations ``s0 < s1`` along the axis (coordinates), and the caps ``lo``, ``hi``.  The
+    side planes do not depend on the caps: the stations are the part's extent while fitting and
+    the caps themselves for a reported frustum.
     """
     cu, cv, hu0, hv0, hu1, hv1, lo, hi = x
-    length = hi - lo if abs(hi - lo) > 1e-12 else 1e-12
-    w = h - lo
+    length = s1 - s0
+    w = h - s0
     n = len(u)
     d = np.empty((n, 4))
     g = np.zeros((n, 4, 8))
@@ -205,12 +271,9 @@ def _frustum_parts(u, v, h, x) -> tuple[np.ndarray, np.ndarray]:
         num = np.abs(rel) - h0 - slope * w
         d[:, col] = num * k
         dk = -slope * k ** 3  # d k / d slope
-        # d slope / d (h0, h1, lo, hi)
-        ds = {i_0: -1.0 / length, i_1: 1.0 / length, 6: slope / length, 7: -slope / length}
-        dnum = {i_c: -np.sign(rel), i_0: -1.0 + w / length, i_1: -w / length,
-                6: slope * (1.0 - w / length), 7: slope * w / length}
-        for j, dn in dnum.items():
-            g[:, col, j] = k * dn + num * dk * ds.get(j, 0.0)
+        g[:, col, i_c] = -np.sign(rel) * k
+        g[:, col, i_0] = k * (w / length - 1.0) - num * dk / length
+        g[:, col, i_1] = -k * w / length + num * dk / length
     d[:, 2] = lo - h
     g[:, 2, 6] = 1.0
     d[:, 3] = h - hi
@@ -228,9 +291,9 @@ def _sdf_cylinder(u, v, h, x):
     return _combine(*_cylinder_parts(u, v, h, x))
 
 
-def _sdf_frustum(u, v, h, x):
+def _sdf_frustum(u, v, h, x, s0: float, s1: float):
     """Signed distance to the frustum and its gradient (exact inside, approximate outside)."""
-    return _combine(*_frustum_parts(u, v, h, x))
+    return _combine(*_frustum_parts(u, v, h, x, s0, s1))
 
 
 # ----------------------------------------------------------------------------- single fits
@@ -245,22 +308,27 @@ def _rms(d: np.ndarray) -> float:
     return float(math.sqrt(float(np.mean(d * d))))
 
 
-def _solve(sdf, x0: np.ndarray, lower=-np.inf) -> np.ndarray:
-    """Least-squares refinement of ``x0`` (trust region reflective, analytic Jacobian).
+def _solve(sdf, to_x, y0: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """Bounded least-squares refinement (trust region reflective, analytic Jacobian).
 
-    ``sdf(x)`` returns the samples' signed distances and their (n, p) gradient.
+    The fit runs on parameters ``y`` inside the box ``[lower, upper]``; ``to_x(y)`` returns the
+    primitive's parameters ``x`` and the (p, q) Jacobian ``dx/dy``, and ``sdf(x)`` the samples'
+    signed distances and their (n, p) gradient.  Returns the fitted ``y``.
     """
     cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
 
-    def both(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        key = x.tobytes()
+    def both(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        key = y.tobytes()
         if key not in cache:
             cache.clear()
-            cache[key] = sdf(x)
+            x, dx = to_x(y)
+            d, g = sdf(x)
+            cache[key] = d, g @ dx
         return cache[key]
 
-    res = least_squares(lambda x: both(x)[0], x0, jac=lambda x: both(x)[1],
-                        bounds=(lower, np.inf), method="trf",
+    y0 = np.clip(y0, lower, upper)
+    res = least_squares(lambda y: both(y)[0], y0, jac=lambda y: both(y)[1],
+                        bounds=(lower, upper), method="trf",
                         xtol=1e-10, ftol=1e-10, gtol=1e-10, max_nfev=200)
     return res.x
 
@@ -270,12 +338,23 @@ def _fit_plane(p: np.ndarray, axis: int) -> tuple[float, dict[str, Any]]:
     return _rms(p[:, axis] - offset), {"offset": offset}
 
 
-def _fit_cuboid(p: np.ndarray) -> float:
-    """Least-squares box residual (the shape score; the primitive is the bounding box)."""
-    lo, hi = p.min(axis=0), p.max(axis=0)
-    x0 = np.concatenate([(lo + hi) / 2, np.maximum((hi - lo) / 2, 1e-9)])
-    x = _solve(lambda x: _sdf_box(p, x), x0)
-    return _rms(_sdf_box(p, x)[0])
+def _fit_cuboid(p: np.ndarray, half: np.ndarray) -> float:
+    """Least-squares box score, the box bounded by the bounding box grown by :data:`ENCLOSE`.
+
+    Fitted on its faces ``y = (lo xyz, hi xyz)``; the primitive drawn is the bounding box.
+    """
+    def to_x(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        lo, hi = y[:3], y[3:]
+        dx = np.zeros((6, 6))
+        for k in range(3):  # centre = (lo + hi) / 2, half = (hi - lo) / 2
+            dx[k, k] = dx[k, 3 + k] = dx[3 + k, 3 + k] = 0.5
+            dx[3 + k, k] = -0.5
+        return np.concatenate([(lo + hi) / 2, (hi - lo) / 2]), dx
+
+    bound = half + ENCLOSE
+    y = _solve(lambda x: _sdf_box(p, x), to_x, np.concatenate([p.min(axis=0), p.max(axis=0)]),
+               np.concatenate([-bound, -bound]), np.concatenate([bound, bound]))
+    return _rms(_sdf_box(p, to_x(y)[0])[0])
 
 
 def _circle_init(u: np.ndarray, v: np.ndarray, side: np.ndarray) -> tuple[float, float, float]:
@@ -292,20 +371,56 @@ def _circle_init(u: np.ndarray, v: np.ndarray, side: np.ndarray) -> tuple[float,
     return float(cu), float(cv), float((u.max() - u.min() + v.max() - v.min()) / 4)
 
 
-def _fit_cylinder(p: np.ndarray, n: np.ndarray, axis: int) -> tuple[float, np.ndarray]:
-    """Fit a closed cylinder along ``axis``; returns residual and x = (cu, cv, r, hc, hh)."""
+def _cap_bounds(half_axis: float) -> tuple[float, float]:
+    """Bounds of a cap: the part's extent along the axis (widened by 1e-9 if it is flat)."""
+    return -max(half_axis, 1e-9), max(half_axis, 1e-9)
+
+
+def _centred(c: float, bound: float, half: float) -> float:
+    """Coefficient ``a`` in [-1, 1] with ``c = a (bound - half)``: an interval ``c ± half`` kept
+    within ``±bound`` (the nearest such ``c`` when it is not)."""
+    room = bound - half
+    return float(np.clip(c / room, -1.0, 1.0)) if room > 0 else 0.0
+
+
+def _fit_cylinder(p: np.ndarray, n: np.ndarray, axis: int,
+                  half: np.ndarray) -> tuple[float, np.ndarray]:
+    """Fit a closed cylinder along ``axis`` inside the bounding box (module docstring, *Bounds*).
+
+    Returns the score and x = (cu, cv, r, hc, hh) in the normalised frame.  Parameters:
+    ``y = (a, b, r, lo, hi)`` with ``cu = a (Hu - r)``, ``cv = b (Hv - r)``, ``a, b`` in [-1, 1],
+    ``r`` in [0, min(Hu, Hv)] where ``H`` is the bounding box's half-size plus :data:`ENCLOSE`
+    (so the circle's square lies in that grown box), and both caps within the part's extent.
+    """
     iu, iv = _others(axis)
     u, v, h = p[:, iu], p[:, iv], p[:, axis]
+    bu, bv = half[iu] + ENCLOSE, half[iv] + ENCLOSE
+
+    def to_x(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        a, b, r, lo, hi = y
+        dx = np.zeros((5, 5))
+        dx[0, 0], dx[0, 2] = bu - r, -a
+        dx[1, 1], dx[1, 2] = bv - r, -b
+        dx[2, 2] = 1.0
+        dx[3, 3] = dx[3, 4] = dx[4, 4] = 0.5
+        dx[4, 3] = -0.5
+        return np.array([a * (bu - r), b * (bv - r), r, (lo + hi) / 2, (hi - lo) / 2]), dx
+
     side = np.abs(n[:, axis]) < 0.3  # samples on the mantle, not on the caps
     cu, cv, r = _circle_init(u, v, side)
-    hlo, hhi = h.min(), h.max()
-    x0 = np.array([cu, cv, max(r, 1e-9), (hlo + hhi) / 2, max((hhi - hlo) / 2, 1e-9)])
-    x = _solve(lambda x: _sdf_cylinder(u, v, h, x), x0)
-    x[2], x[4] = abs(x[2]), abs(x[4])
+    r = float(np.clip(r, 1e-9, min(bu, bv)))
+    clo, chi = _cap_bounds(half[axis])
+    y0 = np.array([_centred(cu, bu, r), _centred(cv, bv, r), r, h.min(), h.max()])
+    y = _solve(lambda x: _sdf_cylinder(u, v, h, x), to_x, y0,
+               np.array([-1.0, -1.0, 0.0, clo, clo]),
+               np.array([1.0, 1.0, min(bu, bv), chi, chi]))
+    x = to_x(y)[0]
+    x[4] = abs(x[4])
     return _rms(_sdf_cylinder(u, v, h, x)[0]), x
 
 
-def _taper_init(w: np.ndarray, t: np.ndarray, sel: np.ndarray, fallback: float) -> tuple[float, float]:
+def _taper_init(w: np.ndarray, t: np.ndarray, sel: np.ndarray,
+                fallback: float) -> tuple[float, float]:
     """Half-size at t=0 and t=1 from a line fit of |w| over the samples on that side pair."""
     if sel.sum() >= 8 and np.ptp(t[sel]) > 1e-6:
         a = np.stack([1 - t[sel], t[sel]], axis=1)
@@ -314,23 +429,59 @@ def _taper_init(w: np.ndarray, t: np.ndarray, sel: np.ndarray, fallback: float) 
     return fallback, fallback
 
 
-def _fit_frustum(p: np.ndarray, n: np.ndarray, axis: int) -> tuple[float, np.ndarray]:
-    """Fit a frustum along ``axis``; x = (cu, cv, hu0, hv0, hu1, hv1, lo, hi)."""
+def _fit_frustum(p: np.ndarray, n: np.ndarray, axis: int,
+                 half: np.ndarray) -> tuple[float, np.ndarray]:
+    """Fit a frustum along ``axis`` inside the bounding box (module docstring, *Bounds*).
+
+    Returns the score and x = (cu, cv, hu0, hv0, hu1, hv1, lo, hi) in the normalised frame, the
+    half-sizes at the stations ``-half[axis]`` and ``+half[axis]`` (the part's extent).  The
+    larger end is at one station for both side pairs, the one where the initial side lines (a
+    line fit of each pair's half-width along the axis) are wider, summed relatively (ties: the
+    lower station).  Parameters per side pair: the larger end's half-size ``M`` in
+    [0, H], the smaller end's ratio ``rho`` in [0, 1] and ``c = a (H - M)``, ``a`` in [-1, 1]
+    (``H``: the bounding box's half-size plus :data:`ENCLOSE`); caps within the part's extent.
+    """
     iu, iv = _others(axis)
     u, v, h = p[:, iu], p[:, iv], p[:, axis]
-    cu, cv = (u.min() + u.max()) / 2, (v.min() + v.max()) / 2
-    lo, hi = h.min(), h.max()
-    t = (h - lo) / max(hi - lo, 1e-12)
+    bu, bv = half[iu] + ENCLOSE, half[iv] + ENCLOSE
+    s0, s1 = -half[axis], half[axis]
+    t = (h - s0) / (s1 - s0)
     nu, nv, na = np.abs(n[:, iu]), np.abs(n[:, iv]), np.abs(n[:, axis])
     side = na < 0.95
-    hu0, hu1 = _taper_init(u - cu, t, side & (nu >= nv), max(np.ptp(u) / 2, 1e-6))
-    hv0, hv1 = _taper_init(v - cv, t, side & (nv > nu), max(np.ptp(v) / 2, 1e-6))
-    x0 = np.array([cu, cv, hu0, hv0, hu1, hv1, lo, hi])
-    lower = np.array([-np.inf, -np.inf, 0, 0, 0, 0, -np.inf, -np.inf])
-    x = _solve(lambda x: _sdf_frustum(u, v, h, x), x0, lower)
+    init_u = _taper_init(u, t, side & (nu >= nv), max(np.ptp(u) / 2, 1e-6))
+    init_v = _taper_init(v, t, side & (nv > nu), max(np.ptp(v) / 2, 1e-6))
+    clo, chi = _cap_bounds(half[axis])
+    # the larger end's station: where the initial side lines are wider, summed relatively
+    big = int(sum((e1 - e0) / max(e0, e1) for e0, e1 in (init_u, init_v)) > 0.0)
+
+    def to_x(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        au, av, mu, mv, ru, rv, lo, hi = y
+        x = np.array([au * (bu - mu), av * (bv - mv), 0.0, 0.0, 0.0, 0.0, lo, hi])
+        dx = np.zeros((8, 8))
+        dx[0, 0], dx[0, 2] = bu - mu, -au
+        dx[1, 1], dx[1, 3] = bv - mv, -av
+        for col, m, rho in ((0, mu, ru), (1, mv, rv)):
+            i_big, i_small = (2 + col, 4 + col) if big == 0 else (4 + col, 2 + col)
+            x[i_big], x[i_small] = m, rho * m
+            dx[i_big, 2 + col] = 1.0
+            dx[i_small, 2 + col], dx[i_small, 4 + col] = rho, m
+        dx[6, 6] = dx[7, 7] = 1.0
+        return x, dx
+
+    ends = []
+    for (e0, e1), bound in ((init_u, bu), (init_v, bv)):
+        e_big, e_small = (e0, e1) if big == 0 else (e1, e0)
+        ends.append((float(np.clip(e_big, 1e-9, bound)),
+                     float(np.clip(e_small / e_big, 0.0, 1.0))))
+    (mu, ru), (mv, rv) = ends
+    y0 = np.array([0.0, 0.0, mu, mv, ru, rv, h.min(), h.max()])
+    y = _solve(lambda x: _sdf_frustum(u, v, h, x, s0, s1), to_x, y0,
+               np.array([-1.0, -1.0, 0.0, 0.0, 0.0, 0.0, clo, clo]),
+               np.array([1.0, 1.0, bu, bv, 1.0, 1.0, chi, chi]))
+    x = to_x(y)[0]
     if x[7] < x[6]:  # keep lo <= hi (the optimiser is free to swap the caps' names)
-        x = np.array([x[0], x[1], x[4], x[5], x[2], x[3], x[7], x[6]])
-    return _rms(_sdf_frustum(u, v, h, x)[0]), x
+        x[6], x[7] = x[7], x[6]
+    return _rms(_sdf_frustum(u, v, h, x, s0, s1)[0]), x
 
 
 # ----------------------------------------------------------------------------- the stage
@@ -345,11 +496,17 @@ class _Fit(NamedTuple):
     residual: float  #: RMS distance to the reported (enclosing) primitive, diagonal units
     box: Box
     detail: dict[str, Any]
+    rejected: str | None = None  #: why this fit may not be reported (*Admissible*), or None
 
 
 def _enclose(lo: float, hi: float, part_lo: float, part_hi: float) -> tuple[float, float]:
     """Grow ``[lo, hi]`` so that each end is at most :data:`ENCLOSE` inside the part's."""
     return min(lo, part_lo + ENCLOSE), max(hi, part_hi - ENCLOSE)
+
+
+def _excess(lo: np.ndarray, hi: np.ndarray, half: np.ndarray) -> float:
+    """How far the box ``[lo, hi]`` reaches beyond the bounding box ``±half`` (normalised)."""
+    return float(max(np.max(-half - lo), np.max(hi - half), 0.0))
 
 
 def _all_fits(part: Part, n_samples: int) -> list[_Fit]:
@@ -364,18 +521,22 @@ def _all_fits(part: Part, n_samples: int) -> list[_Fit]:
     def to_model(q: np.ndarray) -> np.ndarray:
         return np.asarray(q) * diag + centre
 
+    def outside(lo: np.ndarray, hi: np.ndarray) -> str | None:
+        excess = _excess(lo, hi, half)
+        return None if excess <= INSIDE else f"box leaves the bounding box by {excess:.4f}"
+
     fits: list[_Fit] = []
     for axis in range(3):
         res, det = _fit_plane(p, axis)
         fits.append(_Fit("plane", axis, res, res, bbox,
                          {"offset": float(det["offset"] * diag + centre[axis])}))
     # cuboid: least squares scores the shape, the bounding box is the primitive
-    score = _fit_cuboid(p)
+    score = _fit_cuboid(p, half)
     res = _rms(_sdf_box(p, np.concatenate([np.zeros(3), half]))[0])
     fits.append(_Fit("cuboid", None, score, res, bbox, {}))
     for axis in range(3):
         iu, iv = _others(axis)
-        score, x = _fit_cylinder(p, normals, axis)
+        score, x = _fit_cylinder(p, normals, axis, half)
         cu, cv, r, hc, hh = x
         # grow the circle's square and the caps to enclose the part (module docstring)
         (ulo, uhi), (vlo, vhi) = (_enclose(c - r, c + r, -half[k], half[k])
@@ -390,30 +551,41 @@ def _all_fits(part: Part, n_samples: int) -> list[_Fit]:
         fits.append(_Fit("cylinder", axis, score, res, as_box(to_model(lo), to_model(hi)), {
             "radius": float(r * diag),
             "centre": [float(cu * diag + centre[iu]), float(cv * diag + centre[iv])],
-        }))
+        }, outside(lo, hi)))
     for axis in range(3):
         iu, iv = _others(axis)
-        score, x = _fit_frustum(p, normals, axis)
+        if half[axis] < SLAB * min(half[iu], half[iv]):
+            continue  # a thin slab along this axis is never a frustum
+        s0, s1 = -half[axis], half[axis]
+        score, x = _fit_frustum(p, normals, axis, half)
         cu, cv, hu0, hv0, hu1, hv1, flo, fhi = x
-        # grow each cross half-size (both ends in proportion: the taper is kept) and the caps
-        (ulo, uhi), (vlo, vhi) = (_enclose(c - m, c + m, -half[k], half[k]) for c, m, k in
-                                  ((cu, max(hu0, hu1), iu), (cv, max(hv0, hv1), iv)))
-        gu = (uhi - ulo) / 2 / max(hu0, hu1, 1e-12)
-        gv = (vhi - vlo) / 2 / max(hv0, hv1, 1e-12)
-        cu, cv = (ulo + uhi) / 2, (vlo + vhi) / 2
-        hu0, hu1, hv0, hv1 = hu0 * gu, hu1 * gu, hv0 * gv, hv1 * gv
+        # the caps move out to enclose the part; the end rectangles are the fitted side planes
+        # there; then both ends grow in proportion (the taper is kept) to enclose it across
+        flo, fhi = _enclose(flo, fhi, s0, s1)
+        ends = [[h0 + (h1 - h0) * (cap - s0) / (s1 - s0) for cap in (flo, fhi)]
+                for h0, h1 in ((hu0, hu1), (hv0, hv1))]
+        grown = []
+        for c, (e0, e1), k in ((cu, ends[0], iu), (cv, ends[1], iv)):
+            m = max(e0, e1, 1e-12)
+            elo, ehi = _enclose(c - m, c + m, -half[k], half[k])
+            g = (ehi - elo) / 2 / m
+            grown.append(((elo + ehi) / 2, e0 * g, e1 * g))
+        (cu, hu0, hu1), (cv, hv0, hv1) = grown
         mu, mv = max(hu0, hu1), max(hv0, hv1)
-        flo, fhi = _enclose(flo, fhi, -half[axis], half[axis])
         x = np.array([cu, cv, hu0, hv0, hu1, hv1, flo, fhi])
-        res = _rms(_sdf_frustum(p[:, iu], p[:, iv], p[:, axis], x)[0])
+        res = _rms(_sdf_frustum(p[:, iu], p[:, iv], p[:, axis], x, flo, fhi)[0])
         lo, hi = np.zeros(3), np.zeros(3)
         lo[[iu, iv, axis]] = (cu - mu, cv - mv, flo)
         hi[[iu, iv, axis]] = (cu + mu, cv + mv, fhi)
+        # a real taper: one side pair's smaller end at most (1 - TAPER) of its larger end
+        ratio = min(min(hu0, hu1) / max(mu, 1e-12), min(hv0, hv1) / max(mv, 1e-12))
+        rejected = (outside(lo, hi) or
+                    (None if ratio <= 1.0 - TAPER else f"no real taper (ends ratio {ratio:.3f})"))
         fits.append(_Fit("frustum", axis, score, res, as_box(to_model(lo), to_model(hi)), {
             "lo_half": [float(hu0 * diag), float(hv0 * diag)],
             "hi_half": [float(hu1 * diag), float(hv1 * diag)],
             "centre": [float(cu * diag + centre[iu]), float(cv * diag + centre[iv])],
-        }))
+        }, rejected))
     return fits
 
 
@@ -449,8 +621,8 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
         settings: sampling, tie, custom and plane thresholds (:class:`FitSettings`).
 
     Returns:
-        The primitive, its box in model units (enclosing the part: module docstring),
-        its residual unit-free.
+        The primitive, its box in model units (enclosing the part, and within :data:`INSIDE`
+        of its bounding box: module docstring), its residual unit-free.
 
     Raises:
         ModelError: the part has no faces or no surface area.
@@ -462,10 +634,15 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
     if diag <= 0.0:
         raise ModelError(f"part {part.name!r}: its mesh is a single point")
     fits = _all_fits(part, settings.n_samples)
-    # best axis per type (ties: lowest axis, as listed)
+    for f in fits:
+        if f.rejected is not None:
+            log.debug("part %s: %s axis %s (score %.5f) not admissible: %s", part.name, f.kind,
+                      f.axis, f.score, f.rejected)
+    # best admissible axis per type (ties: lowest axis, as listed); the plane and the cuboid
+    # (the bounding box) are always admissible, so every rule below has a candidate
     best: dict[str, _Fit] = {}
     for f in fits:
-        if f.kind not in best or f.score < best[f.kind].score:
+        if f.rejected is None and (f.kind not in best or f.score < best[f.kind].score):
             best[f.kind] = f
     least = min(f.score for f in best.values())
     # rule 1: the thin slab (effective thickness = twice the RMS distance to the mid-plane)
@@ -475,7 +652,7 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
     if 2.0 * plane.score * diag <= settings.plane_thickness * side:
         chosen = plane
     else:  # rule 2: least residual, the simpler solid winning near-ties
-        solids = [best[t] for t in ("cuboid", "cylinder", "frustum")]
+        solids = [best[t] for t in ("cuboid", "cylinder", "frustum") if t in best]
         least_solid = min(f.score for f in solids)
         chosen = min((f for f in solids
                       if f.score <= (1.0 + settings.tie_tolerance) * least_solid + _EXACT),
