@@ -67,6 +67,8 @@ def build_plan(spec: ModelSpec, settings: SolverSettings) -> Plan:
     relations = detect_relations(primitives)
     candidates = generate_candidates(primitives, relations, settings)
     selection = select_candidates(candidates, relations, settings)
+    # selected candidates whose parents were stood in for (select docstring) join the list
+    candidates = tuple(candidates) + tuple(selection.stand_ins)
     return Plan(model, primitives, relations, candidates, selection, settings)
 
 

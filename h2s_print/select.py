@@ -3,7 +3,16 @@
 One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
 
 1. exactly one candidate per part is selected;
-2. every selected candidate's parents are selected;
+2. every selected candidate's parents are selected, or *stood in for*: a parent may be
+   replaced by another candidate of its part with exactly the same intervals along every axis
+   the child anchors off it (:func:`substitutes`), because an anchor ties the child only to
+   the parent's interval along that axis.  A stand-in is never deeper than the parent it
+   stands in for, so depth still falls strictly along every parent link and the anchoring
+   graph stays acyclic without further rows.  The answer names the
+   stand-ins: a selected candidate whose parent was stood in for is reported as a copy (id +
+   ``*``) hanging off the stand-in (:attr:`Selection.stand_ins`), so plan.json's parents and
+   ratio equations hold as written.  (Without stand-ins a part often stayed unguided because
+   every one of its candidates hung off a version of a parent that was not selected.)
 3. no two selected candidates break a preserved relation of their parts
    (``candidates.relation_holds`` on their boxes, within the relation's tolerance).
 
@@ -29,6 +38,7 @@ relations hold between the input primitives) and is handed to SCIP as a start so
 from __future__ import annotations
 
 import logging
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
@@ -64,6 +74,8 @@ class Selection:
         n_constraints: constraints added to the model.
         weight_adjust, weight_difficulty: the objective's weights.
         max_change: the change limit the candidates were generated with.
+        stand_ins: copies of selected candidates that hang off a stand-in parent (their ids
+            end in ``*``; ``chosen`` names them instead of the originals they copy).
     """
 
     chosen: tuple[str, ...]
@@ -78,6 +90,7 @@ class Selection:
     weight_adjust: float = 1.0
     weight_difficulty: float = 1.0
     max_change: float = 0.10
+    stand_ins: tuple[Candidate, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
         """The plan.json ``selection`` object (plus ``gap``, ``optimal`` and model size)."""
@@ -117,6 +130,8 @@ class SelectionModel:
     start: tuple[str, ...] = ()
     n_constraints: int = 0
     settings: SolverSettings = field(default_factory=SolverSettings)
+    candidates: tuple[Candidate, ...] = ()
+    shallow: bool = False
 
 
 def _conflicts(rel: Relation, cands_a: Sequence[Candidate],
@@ -156,7 +171,7 @@ def _check(candidates: Sequence[Candidate], relations: Sequence[Relation],
 
 
 def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[Relation],
-                          settings: SolverSettings) -> SelectionModel:
+                          settings: SolverSettings, *, shallow: bool = False) -> SelectionModel:
     """Build (do not solve) the SCIP model for ``settings.formulation``.
 
     Raises:
@@ -178,14 +193,17 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
     for part in sorted(by_part):
         scip.addCons(quicksum(pick[c.id] for c in by_part[part]) == 1, name=f"one[{part}]")
         n += 1
-    # (2) parents selected with their children
+    # (2) parents selected with their children: the parent itself or a candidate of its part
+    # with the same intervals along the axes the child anchors off it (module docstring)
+    subs = substitutes(cands, shallow=shallow)
     for c in cands:
         for p in c.parents:
             name = f"parent[{c.id}|{p}]"
+            alts = quicksum(pick[q] for q in subs[c.id, p])
             if quadratic:
-                scip.addCons(pick[c.id] * pick[p] - pick[c.id] >= 0, name=name)
+                scip.addCons(pick[c.id] * alts - pick[c.id] >= 0, name=name)
             else:
-                scip.addCons(pick[c.id] <= pick[p], name=name)
+                scip.addCons(pick[c.id] <= alts, name=name)
             n += 1
     # (3) preserved relations kept
     for rel in preserved_relations(relations):
@@ -223,7 +241,8 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
         if not scip.addSol(sol, free=True):
             log.warning("SCIP rejected the all-originals start solution")
     return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
-                          start=start, n_constraints=n, settings=settings)
+                          start=start, n_constraints=n, settings=settings,
+                          candidates=tuple(cands), shallow=shallow)
 
 
 def solve_selection_model(model: SelectionModel) -> Selection:
@@ -255,6 +274,7 @@ def solve_selection_model(model: SelectionModel) -> Selection:
     chosen = tuple(sorted(cid for cid, var in model.pick.items()
                           if scip.getSolVal(best, var) > 0.5))
     objective = math.fsum(model.costs[c] for c in chosen)
+    chosen, stand_ins = _stand_in(model.candidates, chosen, model.shallow)
     optimal = raw == "optimal"
     gap = 0.0 if optimal else float(scip.getGap())
     if not optimal:
@@ -264,7 +284,93 @@ def solve_selection_model(model: SelectionModel) -> Selection:
                      optimal=optimal, n_vars=len(model.pick), n_constraints=model.n_constraints,
                      weight_adjust=settings.weight_adjust,
                      weight_difficulty=settings.weight_difficulty,
-                     max_change=settings.max_change)
+                     max_change=settings.max_change, stand_ins=stand_ins)
+
+
+def substitutes(cands: Sequence[Candidate], *, shallow: bool = False
+                ) -> dict[tuple[str, str], tuple[str, ...]]:
+    """For each (candidate, parent): the candidates that may stand in for the parent.
+
+    An anchor ties the child to the parent's interval along the anchored axis, never to its
+    other axes; so any candidate of the parent's part with exactly the same intervals along
+    every axis the child anchors off that parent keeps every anchor's ratio equation (and the
+    construction, on the stand-in's face).  A stand-in never descends from a candidate of
+    the child's own part; with ``shallow`` it is also at most as deep as the parent
+    (acyclicity, module docstring).  A parent the child does not anchor off (a
+    relation-restoring parent) has no stand-in.
+    """
+    by_id = {c.id: c for c in cands}
+    by_part: dict[str, list[Candidate]] = {}
+    for c in cands:
+        by_part.setdefault(c.part, []).append(c)
+    index: dict[tuple, dict[tuple, list[str]]] = {}
+    out: dict[tuple[str, str], tuple[str, ...]] = {}
+    ancestors: dict[str, frozenset[str]] = {}
+    for c in sorted(cands, key=lambda c: c.depth):  # parents are shallower: already known
+        ancestors[c.id] = frozenset(x for p in c.parents if p in ancestors
+                                    for x in ancestors[p] | {by_id[p].part})
+    for c in cands:
+        for p in c.parents:
+            axes = tuple(sorted({a.axis for a in c.anchors if a.parent == p}))
+            if not axes:
+                out[c.id, p] = (p,)
+                continue
+            part = by_id[p].part
+            table = index.get((part, axes))
+            if table is None:
+                table = {}
+                for q in by_part[part]:
+                    key = tuple((q.box[0][a], q.box[1][a]) for a in axes)
+                    table.setdefault(key, []).append(q.id)
+                index[(part, axes)] = table
+            key = tuple((by_id[p].box[0][a], by_id[p].box[1][a]) for a in axes)
+            out[c.id, p] = tuple(sorted(
+                q for q in table[key]
+                if q == p or (c.part not in ancestors[q]
+                              and (not shallow or by_id[q].depth <= by_id[p].depth))))
+    return out
+
+
+def _stand_in(cands: Sequence[Candidate], chosen: Sequence[str], shallow: bool
+              ) -> tuple[tuple[str, ...], tuple[Candidate, ...]]:
+    """The selection with every parent replaced by its selected stand-in.
+
+    A selected candidate whose parent was stood in for (or itself copied) becomes a copy with the stand-in as its parent and ``*`` appended to its id;
+    the copies are returned to be added to the plan's candidates.
+    """
+    by_id = {c.id: c for c in cands}
+    subs = substitutes(cands, shallow=shallow)
+    selected = {by_id[c].part: by_id[c] for c in chosen}
+    final: dict[str, Candidate] = {}
+    copies: list[Candidate] = []
+    todo = sorted(selected)
+    while todo:
+        progressed = False
+        for part in list(todo):
+            c = selected[part]
+            stand = {}
+            for p in c.parents:
+                q = next(q for q in subs[c.id, p] if q in set(chosen))
+                stand[p] = by_id[q].part
+            if not all(pp in final for pp in stand.values()):
+                continue
+            parents = {p: final[pp] for p, pp in stand.items()}
+            if all(parents[p].id == p for p in parents):
+                final[part] = c
+            else:
+                depth = 1 + max(x.depth for x in parents.values())
+                new = dataclasses.replace(
+                    c, id=f"{c.id}*", parents=tuple(sorted(x.id for x in parents.values())),
+                    depth=depth,
+                    anchors=tuple(dataclasses.replace(a, parent=parents[a.parent].id)
+                                  for a in c.anchors))
+                final[part] = new
+                copies.append(new)
+            todo.remove(part)
+            progressed = True
+        if not progressed:
+            raise _Cycle(sorted(todo))
+    return tuple(sorted(x.id for x in final.values())), tuple(sorted(copies, key=lambda c: c.id))
 
 
 def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relation],
@@ -282,4 +388,20 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
     Raises:
         SelectionError: bad input or no valid selection found.
     """
-    return solve_selection_model(build_selection_model(candidates, relations, settings))
+    try:
+        return solve_selection_model(build_selection_model(candidates, relations, settings))
+    except _Cycle as cycle:
+        # stand-ins closed a cycle: solve again with stand-ins never deeper than the parent
+        # they stand in for (acyclic by construction; optimal for that formulation)
+        log.info("stand-ins closed a cycle among %s; solving with shallow stand-ins",
+                 ", ".join(cycle.parts))
+        return solve_selection_model(build_selection_model(candidates, relations, settings,
+                                                           shallow=True))
+
+
+class _Cycle(SelectionError):
+    """Stand-ins closed a cycle in the anchoring graph (internal: triggers a shallow solve)."""
+
+    def __init__(self, parts: Sequence[str]):
+        super().__init__(f"the anchoring graph has a cycle among {list(parts)}")
+        self.parts = tuple(parts)

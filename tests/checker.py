@@ -131,14 +131,45 @@ def check_candidate(plan: Mapping[str, Any], cand: Mapping[str, Any]) -> list[st
     return out
 
 
+def _ancestor_parts(cands: Mapping[str, Any], cid: str) -> set[str]:
+    out: set[str] = set()
+    stack = list(cands[cid]["parents"])
+    while stack:
+        p = stack.pop()
+        if cands[p]["part"] not in out:
+            out.add(cands[p]["part"])
+        stack.extend(cands[p]["parents"])
+    return out
+
+
+def _stood_in(cands: Mapping[str, Any], child: Mapping[str, Any], pid: str,
+              chosen: Mapping[str, Mapping[str, Any]]) -> bool:
+    """A parent may be stood in for (h2s_print.select's rule, restated): the selected candidate
+    of the parent's part has the same interval along every axis the child anchors off the
+    parent, and does not descend from a candidate of the child's part."""
+    parent = cands[pid]
+    axes = {a["axis"] for a in child["anchors"] if a["parent"] == pid}
+    q = chosen.get(parent["part"])
+    if not axes or q is None:
+        return False
+    if child["part"] in _ancestor_parts(cands, q["id"]):
+        return False
+    return all(q["box"][0][a] == parent["box"][0][a] and q["box"][1][a] == parent["box"][1][a]
+               for a in axes)
+
+
 def check_selection(plan: Mapping[str, Any], selected: Iterable[str] | None = None,
-                    contract: bool = True) -> list[str]:
+                    contract: bool = True, stand_in: bool = False) -> list[str]:
     """Validity of a selection (paper eq. 1-3) and, with ``contract``, of its candidates.
 
     Args:
         plan: plan.json-shaped dict.
         selected: ids to check; default ``plan["selection"]["selected"]``.
         contract: also check each selected candidate (``check_candidate``).
+        stand_in: a parent that is not selected is satisfied by a selected candidate of its
+            part with the same intervals along the axes the child anchors off it that does
+            not descend from the child's part (the selection's stand-in rule); the part graph
+            must then be acyclic.
     """
     out: list[str] = []
     sel = list(plan["selection"]["selected"] if selected is None else selected)
@@ -159,8 +190,21 @@ def check_selection(plan: Mapping[str, Any], selected: Iterable[str] | None = No
     ids = set(sel)
     for cid in sel:
         for p in cands.get(cid, {}).get("parents", ()):
-            if p not in ids:
-                out.append(f"{cid}: parent {p} not selected")
+            if p in ids:
+                continue
+            if stand_in and _stood_in(cands, cands[cid], p, chosen):
+                continue
+            out.append(f"{cid}: parent {p} not selected")
+    if stand_in:  # the part graph (with stand-ins) must be acyclic
+        edges = {part: {cands[p]["part"] for p in c.get("parents", ())}
+                 for part, c in chosen.items()}
+        placed: set[str] = set()
+        while len(placed) < len(edges):
+            ready = [q for q in edges if q not in placed and edges[q] <= placed]
+            if not ready:
+                out.append(f"cycle among {sorted(set(edges) - placed)}")
+                break
+            placed.update(ready)
     for rel in preserved(plan):
         a, b = chosen.get(rel["a"]), chosen.get(rel["b"])
         if a is not None and b is not None and not relation_kept(rel, a["box"], b["box"]):
