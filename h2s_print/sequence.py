@@ -912,9 +912,14 @@ class _Context:
                                              step, self.tol)) + _unique(flat_sentences)
         if carried:
             parts.append(_t("primitive.carry", part=part))
-        for anchor in cand.anchors:  # a mid-plane anchor: the part straddles its guide line
-            if anchor.end == "mid" and anchor.face_normal != anchor.axis:
-                parts.append(_t("primitive.centred", part=part,
+        for anchor, ppart, face, _ in built:  # a mid-plane anchor: the part straddles a line
+            if anchor.end == "mid":
+                entry = entry_for(anchor.ratio)
+                names = _raw("primitive.centred_on")
+                line = names.get(entry.name, names["extend"]).format(
+                    edge=words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi"))
+                parts.append(_t("primitive.centred", part=part, line=line, parent=ppart,
+                                face=words.face(face.normal, face.end),
                                 lo=words.side(anchor.axis, "lo"),
                                 hi=words.side(anchor.axis, "hi")))
         parts.append(_t("primitive.place", part=part, shape=shape))
