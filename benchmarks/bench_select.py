@@ -114,7 +114,8 @@ def run(sizes: list[int], seed: int, time_limit: float) -> None:
             model = build_selection_model(cands, rels, s)
             build_s = time.perf_counter() - t1
             sel = solve_selection_model(model)
-            anchored = sum(1 for i in sel.chosen if by_id[i].anchors)
+            known = {**by_id, **{c.id: c for c in sel.stand_ins}}
+            anchored = sum(1 for i in sel.chosen if known[i].anchors)
             print(f"{label:>8} {n:>5} {len(rels):>4}({n_pres:>3}) {len(cands):>6} {gen_s:>6.2f} {form:>11} "
                   f"{sel.n_constraints:>7} {build_s:>7.2f} {sel.seconds:>7.2f} "
                   f"{sel.objective:>10.3f} {sel.status:>10} {anchored:>4}/{n:<3}", flush=True)
