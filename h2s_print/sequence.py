@@ -855,7 +855,8 @@ class _Context:
 
     # -------------------------------------------------------------- drafts
     def primitive_draft(self, part: str, first: bool, step: int = 0,
-                        described: list[tuple[Vec3, Vec3, int, Any]] | None = None) -> _Draft:
+                        described: list[tuple[Vec3, Vec3, int, Any]] | None = None,
+                        drawn: Sequence[str] = ()) -> _Draft:
         cand = self.chosen[part]
         prim = self.plan.primitive(part)
         words = self.words
@@ -864,9 +865,12 @@ class _Context:
         if first:
             return _Draft(part, "primitive", _t("primitive.first", part=part, shape=shape), False,
                           (), strokes)
-        if not cand.anchors:
-            return _Draft(part, "primitive", _t("primitive.root", part=part, shape=shape), False,
-                          (), strokes)
+        if not cand.anchors:  # free: say what it touches among the parts drawn so far
+            near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
+            near.sort(key=lambda q: -part_size(self.chosen[q].box))
+            text = (_t("primitive.root_near", part=part, shape=shape, other=near[0]) if near
+                    else _t("primitive.root", part=part, shape=shape))
+            return _Draft(part, "primitive", text, False, (), strokes)
         lines: list[_Line] = []
         built: list[tuple[Any, str, Face, Any]] = []
         flat_sentences: list[str] = []
@@ -1001,7 +1005,7 @@ class _Context:
             keep = self.kept(self.adjusted, anchoring=True)
             order = self.guided_order(keep)
             described: list[tuple[Vec3, Vec3, int, Any]] = []
-            drafts = [self.primitive_draft(p, i == 0, i + 1, described)
+            drafts = [self.primitive_draft(p, i == 0, i + 1, described, drawn=order[:i])
                       for i, p in enumerate(order)]
             drafts += [self.ellipse_draft(p, self.chosen[p].box, False) for p in order
                        if self.plan.primitive(p).type == "cylinder"

@@ -879,3 +879,27 @@ def test_alignment_on_a_face_seen_edge_on_is_not_eyeballed():
                                              SequenceSettings(eyeball_mm2=1e12)).steps
                 if s.part == "lid" and s.kind == "primitive")
     assert not step.eyeball and any(g.role == "guide" for g in step.guides), step.text
+
+
+def test_a_free_part_is_placed_against_a_part_it_touches(examples):
+    # A part with no anchor is drawn by eye; its sentence names the biggest part drawn before
+    # it that its box touches (when there is one), so the learner has something to compare.
+    seen = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        chosen = plan.chosen()
+        tol = _model_tol(plan, 1e-6)
+        prims = [s for s in vp.steps if s.kind == "primitive"]
+        for i, s in enumerate(prims[1:], start=1):
+            if chosen[s.part].anchors:
+                continue
+            m = re.search(r"by eye against the ([a-z0-9 _]+?), where", s.text)
+            if not m:
+                continue
+            other = next(p for p in chosen if p.replace("_", " ") == m.group(1))
+            assert other in {q.part for q in prims[:i]}, (name, s.text)
+            a, b = (np.asarray(chosen[x].box, dtype=float) for x in (s.part, other))
+            assert np.all(a[0] <= b[1] + 100 * tol) and np.all(b[0] <= a[1] + 100 * tol)
+            seen += 1
+    assert seen  # measured: the mixer's column against the base, train wheels
