@@ -31,13 +31,15 @@ def main() -> None:
     chosen = result.plan.chosen()
     for page, step in zip(steps, view.steps):
         first.setdefault(step.kind, page)
-        if (step.kind == "primitive" and not step.eyeball and step.part
-                and any(a.end == "mid" for a in chosen[step.part].anchors)):
-            first.setdefault("midplane", page)  # a part centred on a common bisector plane
+        if step.kind == "primitive" and not step.eyeball and step.part and step.guides:
+            if any(a.end == "mid" for a in chosen[step.part].anchors):
+                first.setdefault("midplane", page)  # centred on a common bisector plane
+            else:
+                first.setdefault("anchored", page)  # ends at ratios and extensions only
     wanted = {
         "page-cover": next(p for p in pages if p.kind == "cover"),
         "page-primer": next(p for p in pages if p.kind == "primer"),
-        "page-step-anchored": steps[1],
+        "page-step-anchored": first["anchored"],
         "page-step-midplane": first["midplane"],
         "page-step-ellipse": first["ellipse"],
         "page-step-contour": first["contour"],
