@@ -6,14 +6,16 @@ One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
 2. every selected candidate's parents are selected, or *stood in for*: a parent may be
    replaced by another candidate of its part with exactly the same intervals along every axis
    the child anchors off it (:func:`substitutes`), because an anchor ties the child only to
-   the parent's interval along that axis.  A stand-in is never deeper than the parent it
-   stands in for, so depth still falls strictly along every parent link and the anchoring
-   graph stays acyclic without further rows.  The answer names the
-   stand-ins: a selected candidate whose parent was stood in for is reported as a copy (id +
-   ``*``) hanging off the stand-in (:attr:`Selection.stand_ins`), so plan.json's parents and
-   ratio equations hold as written.  (In the quadratic formulation a parent with stand-ins
-   is the same linear row: a product with a sum gains nothing and measured 60x slower.)  (Without stand-ins a part often stayed unguided because
-   every one of its candidates hung off a version of a parent that was not selected.)
+   the parent's interval along that axis.  A stand-in never descends from a candidate of
+   the child's own part; if the stand-ins chosen still close a cycle, the selection is solved
+   again with stand-ins no deeper than the parent they stand in for (depth then falls strictly
+   along every parent link: acyclic by construction, and optimal for that formulation).  The
+   answer names the stand-ins: a selected candidate whose parent was stood in for is reported
+   as a copy (id + ``*``) hanging off the stand-in (:attr:`Selection.stand_ins`), so
+   plan.json's parents and ratio equations hold as written.  In the quadratic formulation a
+   parent with stand-ins is the same linear row (a product with a sum gains nothing and
+   measured 60x slower).  Without stand-ins a part often stayed unguided because every one of
+   its candidates hung off a version of a parent that was not selected.
 3. no two selected candidates break a preserved relation of their parts
    (``candidates.relation_holds`` on their boxes, within the relation's tolerance).
 
@@ -38,8 +40,8 @@ relations hold between the input primitives) and is handed to SCIP as a start so
 
 from __future__ import annotations
 
-import logging
 import dataclasses
+import logging
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
@@ -122,6 +124,10 @@ class SelectionModel:
         costs: candidate id -> weighted objective coefficient.
         start: ids of the start solution (all originals), empty when a part has no original.
         n_constraints: constraints added.
+        settings: the solver settings.
+        candidates: the candidates, sorted by id.
+        subs: (candidate, parent) -> the candidates that may stand in for the parent
+            (:func:`substitutes`), as the parent rows were written.
     """
 
     scip: Model
@@ -132,7 +138,7 @@ class SelectionModel:
     n_constraints: int = 0
     settings: SolverSettings = field(default_factory=SolverSettings)
     candidates: tuple[Candidate, ...] = ()
-    shallow: bool = False
+    subs: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
 
 
 def _conflicts(rel: Relation, cands_a: Sequence[Candidate],
@@ -173,7 +179,8 @@ def _check(candidates: Sequence[Candidate], relations: Sequence[Relation],
 
 def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[Relation],
                           settings: SolverSettings, *, shallow: bool = False) -> SelectionModel:
-    """Build (do not solve) the SCIP model for ``settings.formulation``.
+    """Build (do not solve) the SCIP model for ``settings.formulation``; ``shallow`` limits
+    stand-ins to candidates no deeper than the parent (module docstring).
 
     Raises:
         SelectionError: unknown formulation, duplicate ids, dangling parents.
@@ -243,7 +250,7 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
             log.warning("SCIP rejected the all-originals start solution")
     return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
                           start=start, n_constraints=n, settings=settings,
-                          candidates=tuple(cands), shallow=shallow)
+                          candidates=tuple(cands), subs=subs)
 
 
 def solve_selection_model(model: SelectionModel) -> Selection:
@@ -275,7 +282,7 @@ def solve_selection_model(model: SelectionModel) -> Selection:
     chosen = tuple(sorted(cid for cid, var in model.pick.items()
                           if scip.getSolVal(best, var) > 0.5))
     objective = math.fsum(model.costs[c] for c in chosen)
-    chosen, stand_ins = _stand_in(model.candidates, chosen, model.shallow)
+    chosen, stand_ins = _stand_in(model.candidates, model.subs, chosen)
     optimal = raw == "optimal"
     gap = 0.0 if optimal else float(scip.getGap())
     if not optimal:
@@ -332,15 +339,17 @@ def substitutes(cands: Sequence[Candidate], *, shallow: bool = False
     return out
 
 
-def _stand_in(cands: Sequence[Candidate], chosen: Sequence[str], shallow: bool
-              ) -> tuple[tuple[str, ...], tuple[Candidate, ...]]:
-    """The selection with every parent replaced by its selected stand-in.
+def _stand_in(cands: Sequence[Candidate], subs: dict[tuple[str, str], tuple[str, ...]],
+              chosen: Sequence[str]) -> tuple[tuple[str, ...], tuple[Candidate, ...]]:
+    """The selection with every parent replaced by its selected stand-in (``subs``: the
+    model's :func:`substitutes`).
 
-    A selected candidate whose parent was stood in for (or itself copied) becomes a copy with the stand-in as its parent and ``*`` appended to its id;
-    the copies are returned to be added to the plan's candidates.
+    A selected candidate whose parent was stood in for (or was itself copied) becomes a copy
+    with the stand-in as its parent and ``*`` appended to its id; the copies are returned to
+    be added to the plan's candidates.
     """
     by_id = {c.id: c for c in cands}
-    subs = substitutes(cands, shallow=shallow)
+    picked = set(chosen)
     selected = {by_id[c].part: by_id[c] for c in chosen}
     final: dict[str, Candidate] = {}
     copies: list[Candidate] = []
@@ -351,7 +360,7 @@ def _stand_in(cands: Sequence[Candidate], chosen: Sequence[str], shallow: bool
             c = selected[part]
             stand = {}
             for p in c.parents:
-                q = next(q for q in subs[c.id, p] if q in set(chosen))
+                q = next(q for q in subs[c.id, p] if q in picked)
                 stand[p] = by_id[q].part
             if not all(pp in final for pp in stand.values()):
                 continue
