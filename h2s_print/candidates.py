@@ -132,7 +132,7 @@ from typing import Any, Iterable, Mapping, Sequence
 
 from .config import SolverSettings
 from .errors import SelectionError
-from .order import start_part
+from .order import part_size, start_part
 from .ratios import ALIGN_ONLY, CATALOGUE, distinct_face_lines, distinct_lines, entry_for
 from .types import Box, Primitive, Relation
 
@@ -380,11 +380,6 @@ def _is_flat(box: Box, axis: int) -> bool:
     return _extent(box, axis) <= DEGENERATE * _largest_extent(box)
 
 
-def _largest_face_area(box: Box) -> float:
-    e = [_extent(box, a) for a in range(3)]
-    return max(e[0] * e[1], e[1] * e[2], e[0] * e[2])
-
-
 def _face_for(pbox: Box, axis: int, normal: int | None,
               side: str | None) -> tuple[int, str | None, float]:
     """Construction face on a parent box for anchoring ``axis``: (face_normal, side, area).
@@ -392,11 +387,11 @@ def _face_for(pbox: Box, axis: int, normal: int | None,
     ``normal`` is the shared coplanar plane's normal (``None``: no shared plane).
     """
     if _is_flat(pbox, axis):
-        return axis, None, _largest_face_area(pbox)
+        return axis, None, part_size(pbox)
     if normal is not None and normal != axis:
         u, v = (a for a in range(3) if a != normal)
         area = _extent(pbox, u) * _extent(pbox, v)
-        if area > DEGENERATE * _largest_face_area(pbox):
+        if area > DEGENERATE * part_size(pbox):
             return normal, side, area
     others = [a for a in range(3) if a != axis]
     b = max(others, key=lambda a: (_extent(pbox, a), -a))
@@ -977,7 +972,7 @@ def _lines(ratio: float) -> int:
 
 def _face_area_of(pbox: Box, axis: int, normal: int) -> float:
     if normal == axis:  # aligned with a flat parent's plane
-        return _largest_face_area(pbox)
+        return part_size(pbox)
     u, v = (a for a in range(3) if a != normal)
     return _extent(pbox, u) * _extent(pbox, v)
 
@@ -1042,7 +1037,7 @@ def generate_candidates(primitives: Sequence[Primitive], relations: Sequence[Rel
     relations = tuple(relations)
     _check_inputs(primitives, relations)
     prims = {p.part: p for p in primitives}
-    a_ref = max((_largest_face_area(p.box) for p in primitives), default=0.0)
+    a_ref = max((part_size(p.box) for p in primitives), default=0.0)
     if a_ref <= 0:
         a_ref = 1.0
     coplanar: dict[str, list[tuple[str, Relation]]] = {}
