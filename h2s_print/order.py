@@ -73,10 +73,10 @@ def start_part(primitives: Sequence[Primitive]) -> str | None:
         return None
     floor = min(float(p.box[0][2]) for p in primitives)
     top = max(float(p.box[1][2]) for p in primitives)
-    largest = max(fitted, key=lambda p: (part_size(p.box), _neg(p.part)))
+    largest = min(fitted, key=lambda p: (-part_size(p.box), p.part))
     on_ground = [p for p in fitted if grounded(p.box, floor, top - floor)]
     if on_ground:
-        best = max(on_ground, key=lambda p: (part_size(p.box), _neg(p.part)))
+        best = min(on_ground, key=lambda p: (-part_size(p.box), p.part))
         if part_size(best.box) >= GROUNDED_SHARE * part_size(largest.box):
             return best.part
     return largest.part
@@ -172,8 +172,3 @@ def _reach(part: str, kids: Mapping[str, Collection[str]], waiting: Mapping[str,
                 best = max(best, sizes[c])
                 stack.append(c)
     return best
-
-
-def _neg(name: str) -> tuple[int, ...]:
-    """A key that sorts names in reverse, so ``max`` breaks ties toward the smaller name."""
-    return tuple(-ord(c) for c in name) + (0,)
