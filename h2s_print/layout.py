@@ -61,7 +61,7 @@ from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct
 from .errors import RenderError
 from .project import edge_exit, horizon_mm, make_camera, vp_side
-from .types import Guide, Stroke, ViewPlan
+from .types import Guide, Label, Step, Stroke, ViewPlan
 
 log = logging.getLogger(__name__)
 
@@ -589,7 +589,98 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item
     for s in step.strokes:
         key = "new_hidden" if s.kind == "scaffold_hidden" else "new"
         items += view.lines(s.points_mm, STYLES[key], "stroke_new")
+    items += place_labels(view, step.labels, items)
     return items
+
+
+#: Letters on a step's picture: size (pt), dot radius (mm), distances from the dot tried (mm).
+LABEL_PT = 7.5
+LABEL_DOT_MM = 0.45
+LABEL_RADII_MM = (1.0, 1.8, 2.8, 4.0, 5.5, 7.5)
+#: Directions tried round a point, in order of preference (right, up, left, down, diagonals).
+_LABEL_DIRS = ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, -1))
+
+
+def _segments(items: Sequence[Item]) -> np.ndarray:
+    """(n, 4) segments ``x0 y0 x1 y1`` of every polyline among ``items``, page mm."""
+    segs = []
+    for it in items:
+        if isinstance(it, Polyline) and len(it.points_mm) > 1:
+            pts = np.asarray(it.points_mm, dtype=float)
+            if it.closed:
+                pts = np.vstack([pts, pts[:1]])
+            segs.append(np.hstack([pts[:-1], pts[1:]]))
+    return np.vstack(segs) if segs else np.zeros((0, 4))
+
+
+def _crossings(segs: np.ndarray, box: Box2) -> int:
+    """How many of ``segs`` meet the rectangle ``box`` (separating axes: x, y, the segment's
+    normal)."""
+    if not len(segs):
+        return 0
+    x0, y0, x1, y1 = box
+    sx0, sy0, sx1, sy1 = segs.T
+    near = ((np.minimum(sx0, sx1) <= x1) & (np.maximum(sx0, sx1) >= x0)
+            & (np.minimum(sy0, sy1) <= y1) & (np.maximum(sy0, sy1) >= y0))
+    if not near.any():
+        return 0
+    s = segs[near]
+    dx, dy = s[:, 2] - s[:, 0], s[:, 3] - s[:, 1]
+    sides = np.stack([dx * (cy - s[:, 1]) - dy * (cx - s[:, 0])
+                      for cx, cy in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))])
+    return int(np.count_nonzero(~((sides > 0).all(axis=0) | (sides < 0).all(axis=0))))
+
+
+def _boxes_overlap(a: Box2, b: Box2) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) -> list[Item]:
+    """A dot at each label's point and its letters beside it (roles ``label_point`` and
+    ``label``), placed so that no two labels overlap each other or another label's dot, every
+    label stays inside the picture, and as few drawn lines as possible cross a label (fewest
+    crossings, then nearest to its dot, then the preferred direction).
+
+    Raises:
+        RenderError: no place is free for a label (more labels than the picture can hold).
+    """
+    segs = _segments(items)
+    dots = [view.map(lb.at_mm) for lb in labels]
+    x0, y0, x1, y1 = view.rect
+    taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
+                          dy + LABEL_DOT_MM) for dx, dy in dots]
+    out: list[Item] = []
+    pad = 0.25
+    for k, (lb, (dx, dy)) in enumerate(zip(labels, dots)):
+        out.append(Circle(dx, dy, LABEL_DOT_MM, None, 0.0, "black", "label_point"))
+        w = text_width_mm(lb.name, LABEL_PT, "Helvetica-Bold")
+        cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
+        best: tuple[tuple, Text] | None = None
+        for ri, r in enumerate(LABEL_RADII_MM):
+            for di, (ux, uy) in enumerate(_LABEL_DIRS):
+                norm = math.hypot(ux, uy)
+                cx, cy = dx + r * ux / norm, dy + r * uy / norm
+                # the label's box touches (cx, cy) on the side facing the dot
+                bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
+                by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
+                box = (bx0 - pad, by0 - pad, bx0 + w + pad, by0 + cap + desc + pad)
+                if box[0] < x0 or box[1] < y0 or box[2] > x1 or box[3] > y1:
+                    continue
+                if any(_boxes_overlap(box, t) for j, t in enumerate(taken) if j != k):
+                    continue
+                score = (_crossings(segs, box), ri, di)
+                if best is None or score < best[0]:
+                    best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
+                                        "start", "black", "label"))
+            if best is not None and best[0][0] == 0:
+                break
+        if best is None:
+            raise RenderError(f"no room on the picture for the label {lb.name!r}")
+        text = best[1]
+        out.append(text)
+        b = text.box_mm
+        taken.append((b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad))
+    return out
 
 
 # ----------------------------------------------------------------------------- page furniture
@@ -841,6 +932,17 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
         items.append(Circle(x0 + 1.2, para[0].y_mm + 1.1, 0.6, None, 0.0, "black", "bullet"))
         items += para
         top -= 2
+    if plan.part_names:  # parts called by a short label: their full names
+        top -= 3
+        head, top = _paragraph(x0, top, text_w, _t("parts.heading"), 11, font="Helvetica-Bold",
+                               role="part_names")
+        items += head
+        top -= 1.5
+        for label, name in plan.part_names:
+            para, top = _paragraph(x0 + 4, top, text_w - 4, _t("parts.entry", label=label,
+                                                                name=name), 9, role="part_name")
+            items += para
+            top -= 1
     # The finished drawing, zoomed on its own extent.
     if landscape:
         area = (x0 + text_w + 12, y0 + 14, x1, y1 - 8)
@@ -859,6 +961,52 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
         items.append(Text(view.rect[0], view.rect[3] + 2.0, _t("cover.image_caption"), 9,
                           "Helvetica-Oblique", "start", "grey", "image_caption"))
     return Page(f.width, f.height, tuple(items), (Bookmark(_t("cover.bookmark")),), "cover", title, f.margin)
+
+
+#: Indent of a sub-step's text after its number, mm.
+SUBSTEP_INDENT_MM = 5.0
+
+
+def _instruction_parts(step: Step) -> list[tuple[str, str]]:
+    """The step's text as ``(number, paragraph)`` pairs: the headline (bold, no number), then
+    the numbered sub-steps, or (master) the summary."""
+    out = [("", plain_text(step.headline or step.text))]
+    if step.substeps:
+        out += [(f"{k + 1}.", plain_text(x)) for k, x in enumerate(step.substeps)]
+    elif step.summary:
+        out.append(("", plain_text(step.summary)))
+    return out
+
+
+def _instruction_height(step: Step, width: float, size: float) -> float:
+    """Height of :func:`_instruction` for ``step``, mm."""
+    h = 0.0
+    for k, (num, para) in enumerate(_instruction_parts(step)):
+        font = "Helvetica-Bold" if k == 0 else "Helvetica"
+        w = width - (SUBSTEP_INDENT_MM if num else 0.0)
+        h += _paragraph_height(para, w, size, font) + (1.2 if k else 0.0)
+    return h
+
+
+def _instruction(x: float, top: float, width: float, step: Step, size: float
+                 ) -> tuple[list[Item], float]:
+    """The headline (bold) and the sub-steps, each a paragraph with a hanging number."""
+    items: list[Item] = []
+    y = top
+    for k, (num, para) in enumerate(_instruction_parts(step)):
+        font = "Helvetica-Bold" if k == 0 else "Helvetica"
+        if k:
+            y -= 1.2
+        if num:
+            items.append(Text(x, y - 0.72 * size * PT_MM, num, size, "Helvetica-Bold", "start",
+                              "black", "substep_number"))
+            lines, y = _paragraph(x + SUBSTEP_INDENT_MM, y, width - SUBSTEP_INDENT_MM, para,
+                                  size, role="substep")
+        else:
+            lines, y = _paragraph(x, y, width, para, size, font=font,
+                                  role="headline" if k == 0 else "summary")
+        items += lines
+    return items, y
 
 
 def _steps_per_page(plan: ViewPlan) -> int:
@@ -911,7 +1059,7 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
             texts.append((step, hint))
         sw = slots[0][2] - slots[0][0]
         text_h = max(
-            6.5 + _paragraph_height(step.text, sw, size)
+            6.5 + _instruction_height(step, sw, size)
             + (_paragraph_height(hint, sw, 8.5) + 2.0 if hint else 0.0)
             for step, hint in texts)
         for (step, hint), slot, i in zip(texts, slots, idx):
@@ -921,7 +1069,7 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
             ttop = view.rect[1] - 3.0
             items.append(Text(sx0, ttop - 0.72 * 12 * PT_MM, _t("step.number", index=step.index),
                               12, "Helvetica-Bold", "start", "black", "step_number"))
-            para, below = _paragraph(sx0, ttop - 6.5, sw, step.text, size, role="instruction")
+            para, below = _instruction(sx0, ttop - 6.5, sw, step, size)
             items += para
             if hint:
                 para, _ = _paragraph(sx0, below - 2.0, sw, hint, 8.5, font="Helvetica-Oblique",

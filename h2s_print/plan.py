@@ -137,6 +137,11 @@ def _step_json(step: Any) -> dict[str, Any]:
             for g in step.guides
         ],
         "alive": list(step.alive),
+        "headline": step.headline,
+        "substeps": list(step.substeps),
+        "summary": step.summary,
+        "labels": [{"name": lb.name, "at3d": _vec(lb.at3d), "at_mm": _vec(lb.at_mm)}
+                   for lb in step.labels],
     }
     strokes = [s for s in step.strokes if s.kind != "contour"]
     contours = [s for s in step.strokes if s.kind == "contour"]

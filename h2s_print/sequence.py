@@ -130,7 +130,8 @@ Every ``*_mm`` coordinate is ``camera.project`` of its 3D point.
 from __future__ import annotations
 
 import logging
-from dataclasses import dataclass, field
+import re
+from dataclasses import dataclass, field, replace
 from typing import Any, Iterable, Sequence
 
 import numpy as np
@@ -140,13 +141,24 @@ from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
 from .contours import adjust_part, final_contours, trace_contours, visible_points
 from .errors import SelectionError
+from .names import PartName, display_names
+from .instructions import Many, Pts, Spec, construction_specs, letter_steps, spec, unique_specs
 from .order import drawing_order, part_size, start_part
 from .project import make_camera, vanishing_points, vp_side
 from .ratios import entry_for
-from .types import Box, Camera, Guide, Part, Step, Stroke, VanishingPoint, Vec3, ViewPlan
+from .types import Box, Camera, Guide, Label, Part, Step, Stroke, VanishingPoint, Vec3, ViewPlan
 
 log = logging.getLogger(__name__)
 
+#: A step's text (headline and numbered sub-steps) longer than this many words is split: its
+#: constructions go to steps of their own (kind ``guides``) before the part's step.
+MAX_STEP_WORDS = 70
+#: Two parts are the same shape when their boxes' extents and mesh areas agree within this
+#: fraction (and their primitive types and triangle counts are equal): drawn as one step.
+REPEAT_TOL = 0.02
+#: A copy's position is said in ratio words up to this many words; longer, it is placed as the
+#: picture shows it (the words would outweigh the drawing).
+REPEAT_WHERE_WORDS = 16
 #: Lines whose end points agree within this fraction of the model's diagonal are one guide.
 MERGE_TOL = 1e-6
 #: Closed contour loops smaller than this on the sheet (largest side of their extent, mm) are
@@ -348,7 +360,8 @@ class _Words:
         self.vps: dict[int, str] = {}
         for vp in vps:
             if vp.axis not in keys:
-                self.vps[vp.axis] = _t("vp.infinite", edges=edges[vp.axis])
+                self.vps[vp.axis] = (_t("vp.vertical") if vp.axis == 2
+                                     else _t("vp.infinite", edges=edges[vp.axis]))
                 continue
             key = keys[vp.axis]
             clash = sum(1 for k in keys.values() if k == key) > 1
@@ -416,10 +429,27 @@ class _Draft:
 
     part: str | None
     kind: str
-    text: str
     eyeball: bool
     lines: tuple[_Line, ...]
     strokes: tuple[Stroke, ...]
+    headline: str
+    specs: tuple[Spec, ...] = ()  # sub-steps before letters (:mod:`h2s_print.instructions`)
+    summary: str = ""
+    substeps: tuple[str, ...] = ()  # the sub-steps with letters (:meth:`_Context.letter`)
+    labels: tuple[tuple[str, Vec3], ...] = ()
+    group: tuple[str, ...] = ()  # identical parts drawn in this step (their first is ``part``)
+
+
+@dataclass
+class _Unit:
+    """The constructions of one primitive step on one parent face: sub-steps, lines, results."""
+
+    parent: str
+    specs: list[Spec] = field(default_factory=list)
+    lines: list[_Line] = field(default_factory=list)
+    results: list[tuple[Vec3, Vec3]] = field(default_factory=list)
+    room: bool = False  # a construction that needs room on the face (not only edges)
+    anchors: list[Any] = field(default_factory=list)
 
 
 def _stroke(kind: str, part: str, points: np.ndarray, camera: Camera) -> Stroke:
@@ -583,87 +613,6 @@ def _anchor_lines(anchor: Any, pbox: Box, cbox: Box, camera: Camera,
     return face, con, own, _carry_lines(con, face, cbox, tol)
 
 
-def _construct_sentence(words: _Words, anchor: Any, parent: str, face: Face, con: Any) -> str:
-    entry = entry_for(anchor.ratio)
-    axis, r = anchor.axis, anchor.ratio
-    fname = words.face(face.normal, face.end)
-    vp = words.vp(con.result.axis if con.result.axis is not None else 3 - axis - face.normal)
-    name = entry.name
-    if name in ("start", "end"):
-        return _t("primitive.construct.align", edge=words.face(axis, "lo" if r < 0.5 else "hi"),
-                  parent=parent, face=fname, vp=vp)
-    near = words.face(axis, "lo" if r < 0.5 else "hi")
-    if name == "half":
-        return _t("primitive.construct.half", parent=parent, face=fname, vp=vp)
-    if name in ("quarter", "three-quarters"):
-        return _t("primitive.construct.quarter", parent=parent, face=fname, near=near, vp=vp)
-    if name in ("third", "two-thirds"):
-        return _t("primitive.construct.third", parent=parent, face=fname, near=near, vp=vp)
-    key = "extend_one" if name.startswith("extend-1") else "extend_half"
-    return _t(f"primitive.construct.{key}", parent=parent, face=fname, near=near,
-              dim=words.dim(axis), vp=vp)
-
-
-def _reuse_sentence(words: _Words, anchor: Any, parent: str, face: Face, step: int) -> str:
-    entry = entry_for(anchor.ratio)
-    what = _raw("primitive.reuse_what")
-    key = entry.name if entry.name in what else "extend"
-    return _t("primitive.construct.reuse", parent=parent, face=words.face(face.normal, face.end),
-              step=step, what=what[key].format(
-                  edge=words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi")))
-
-
-def _construct_sentences(words: _Words, built: Sequence[tuple[Any, str, Face, Any]],
-                         described: list[tuple[Vec3, Vec3, int, Any]], step: int,
-                         tol: float) -> list[str]:
-    """One sentence per distinct result line, pairs on one face said together: the two edges
-    of an alignment, quarters (1/4 and 3/4), thirds (1/3 and 2/3).  A result line an earlier
-    step described (``described``: its end points and step number, appended to here) is
-    referred to ("Use the ... from step 4"); a result line already said in this step is not
-    said again."""
-    out: list[str] = []
-    fresh: list[tuple[Any, str, Face, Any]] = []
-    mine: list[tuple[Vec3, Vec3, Any]] = []
-    for item in built:
-        anchor, parent, face, con = item
-        a, b = con.result.start, con.result.end
-        old = [(n, it) for p, q, n, it in described if _same_segment(a, b, p, q, tol)]
-        if old and old[0][0] < step:  # named as the step that said it
-            n, (oa, op, of, _) = old[0]
-            out.append(_reuse_sentence(words, oa, op, of, n))
-        elif not any(_same_segment(a, b, p, q, tol) for p, q, _ in mine):
-            mine.append((a, b, item))
-            fresh.append(item)
-    described.extend((p, q, step, it) for p, q, it in mine)
-    reuse, out = out, []
-    groups: dict[tuple, list[tuple[Any, str, Face, Any]]] = {}
-    for item in fresh:
-        anchor, parent, face, _ = item
-        groups.setdefault((anchor.parent, face.normal, face.end, anchor.axis), []).append(item)
-    out: list[str] = []
-    for items in groups.values():
-        names = {entry_for(a.ratio).name: (a, p, f, c) for a, p, f, c in items}
-        pair = None
-        for key, (x, y) in (("align_both", ("start", "end")), ("quarters", ("quarter", "three-quarters")),
-                            ("thirds", ("third", "two-thirds"))):
-            if x in names and y in names:
-                pair = key, x, y
-                break
-        done: set[str] = set()
-        if pair is not None:
-            key, x, y = pair
-            anchor, parent, face, con = names[x]
-            out.append(_t(f"primitive.construct.{key}", parent=parent,
-                          face=words.face(face.normal, face.end),
-                          edge=words.face(anchor.axis, "lo"), edge2=words.face(anchor.axis, "hi"),
-                          vp=words.vp(con.result.axis)))
-            done = {x, y}
-        for a, p, f, c in items:
-            if entry_for(a.ratio).name not in done:
-                out.append(_construct_sentence(words, a, p, f, c))
-    return _unique(reuse) + out
-
-
 def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
     axis, r = anchor.axis, anchor.ratio
     side = words.side(axis, anchor.end)
@@ -681,6 +630,76 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
     amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
     return _t("primitive.position.extend", side=side, about=ab, amount=amount, parent=parent,
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
+    """Where one anchor puts the part, in ratio words (a master's text): "its left side at a
+    quarter of the body's width"."""
+    axis, r = anchor.axis, anchor.ratio
+    side = words.side(axis, anchor.end)
+    if anchor.face_normal == axis:
+        return _t("ratio_words.flat", side=side, parent=parent)
+    entry = entry_for(r)
+    if entry.name in ("start", "end"):
+        return _t("ratio_words.align", side=side, parent=parent,
+                  pside=words.side(axis, "lo" if r < 0.5 else "hi"))
+    if not entry.extrusion:
+        return _t("ratio_words.inside", side=side, parent=parent, dim=words.dim(axis),
+                  fraction=_raw("primitive.fractions")[entry.name])
+    amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+    return _t("ratio_words.extend", side=side, amount=amount, parent=parent,
+              dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+def _draws_known(s: Spec, known: Sequence[tuple[Vec3, Vec3]], tol: float) -> bool:
+    """Does sub-step ``s`` only draw a line already on the sheet (one of ``known``)?"""
+    if s.key not in ("cross", "through", "from", "edge"):
+        return False
+    line = dict(s.fields).get("line")
+    if not isinstance(line, Pts) or len(line.points) != 2:
+        return False
+    return any(_same_segment(line.points[0], line.points[1], p, q, tol) for p, q in known)
+
+
+def _substep(key: str, fields: dict[str, Any]) -> str:
+    """A sub-step's sentence from ``templates/steps.yaml`` (section ``substep``)."""
+    return _t(f"substep.{key}", **fields)
+
+
+def _substep_of(s: Spec) -> str:
+    """A sub-step that names no point, formatted (a master's summary reuses it)."""
+    return _substep(s.key, dict(s.fields))
+
+
+def _plural(key: str) -> str:
+    """The template key of a sub-step said for two twins at once (``edge`` -> ``edge_two``)."""
+    return f"{key}_two" if isinstance(_raw("substep").get(f"{key}_two"), str) else key
+
+
+def _natural(text: str) -> tuple:
+    """Sort key reading digit runs as numbers ("wheel 2" before "wheel 10")."""
+    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t)
+                 for t in re.split(r"(\d+)", text) if t)
+
+
+def _mesh_area(part: Part) -> float:
+    v = np.asarray(part.vertices, dtype=float)
+    f = np.asarray(part.faces, dtype=np.int64)
+    if not len(f):
+        return 0.0
+    return float(0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]),
+                                      axis=1).sum())
+
+
+def _cap(text: str) -> str:
+    """``text`` with its first letter a capital (a headline starts with the part's name)."""
+    return text[:1].upper() + text[1:]
+
+
+def _moving_axis(line: _Line) -> int:
+    """The model axis a carrying line runs along."""
+    d = np.abs(np.asarray(line.end, dtype=float) - np.asarray(line.start, dtype=float))
+    return int(np.argmax(d))
 
 
 def _touching(part: str, chosen: dict[str, Any], tol: float) -> list[str]:
@@ -777,6 +796,7 @@ class _Context:
     _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
     _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
     _box_steps: dict[str, int] = field(default_factory=dict)
+    names: dict[str, PartName] = field(default_factory=dict)
 
     # -------------------------------------------------------------- order and visibility
     def guided_order(self, keep: Iterable[str] | None = None) -> list[str]:
@@ -854,82 +874,200 @@ class _Context:
         return keep
 
     # -------------------------------------------------------------- drafts
-    def primitive_draft(self, part: str, first: bool, step: int = 0,
-                        described: list[tuple[Vec3, Vec3, int, Any]] | None = None,
-                        drawn: Sequence[str] = ()) -> _Draft:
+    def say(self, part: str) -> str:
+        """What the texts call ``part`` (:func:`h2s_print.names.display_names`)."""
+        return self.names[part].label
+
+    def part_labels(self, part: str, box: Box) -> tuple[tuple[str, Vec3], ...]:
+        """The short name drawn next to a part whose own name is not readable (else none)."""
+        if self.names[part].readable:
+            return ()
+        return ((self.names[part].label, _vec(np.mean(np.asarray(box, dtype=float), axis=0))),)
+
+    def lettered(self, specs: Sequence[Spec]) -> tuple[Spec, ...]:
+        """A step's sub-steps, each said once, twins together
+        (:func:`h2s_print.instructions.unique_specs`); lettered later (:meth:`letter`)."""
+        return tuple(unique_specs(specs, _plural))
+
+    def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
+        """The drafts with their sub-steps formatted and their points lettered, the whole
+        tutorial at once (:func:`h2s_print.instructions.letter_steps`)."""
+        done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join)
+        return [replace(d, substeps=tuple(subs), labels=tuple(labels))
+                for d, (subs, labels) in zip(drafts, done)]
+
+    def primitive_drafts(self, part: str, first: bool, step: int = 0,
+                         described: list[tuple[Vec3, Vec3, int]] | None = None,
+                         drawn: Sequence[str] = ()) -> list[_Draft]:
+        """The primitive step of ``part`` (step number ``step``), preceded by guides steps when
+        its sub-steps would not fit :data:`MAX_STEP_WORDS` (module docstring, *Text*)."""
         cand = self.chosen[part]
         prim = self.plan.primitive(part)
         words = self.words
         strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
         shape = words.shape(prim.type)
+        name = self.say(part)
+        note = (_raw("headline.cylinder_note")
+                if prim.type == "cylinder" and prim.axis is not None else "")
         if first:
-            return _Draft(part, "primitive", _t("primitive.first", part=part, shape=shape), False,
-                          (), strokes)
+            subs = self.lettered([spec("first_edges"), spec("first_corners")])
+            return [_Draft(part, "primitive", False, (), strokes,
+                           _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
             near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
             near.sort(key=lambda q: -part_size(self.chosen[q].box))
-            text = (_t("primitive.root_near", part=part, shape=shape, other=near[0]) if near
-                    else _t("primitive.root", part=part, shape=shape))
-            return _Draft(part, "primitive", text, False, (), strokes)
-        lines: list[_Line] = []
-        built: list[tuple[Any, str, Face, Any]] = []
-        flat_sentences: list[str] = []
+            subs = self.lettered([spec("free_near", other=self.say(near[0])) if near
+                                  else spec("free")])
+            return [_Draft(part, "primitive", False, (), strokes,
+                           _t("headline.free", Part=_cap(name), shape=shape) + note, subs)]
+        built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
+        flat: list[Spec] = []
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
-        carried = False
-        box_sentences: list[str] = []
         for anchor in cand.anchors:
             parent = self.by_id[anchor.parent]
             if anchor.face_normal == anchor.axis:
-                flat_sentences.append(_t("primitive.flat", part=part, parent=parent.part,
-                                         side=words.side(anchor.axis, anchor.end)))
+                flat.append(spec("flat", side=words.side(anchor.axis, anchor.end),
+                                 parent=self.say(parent.part)))
                 continue
-            around = self.box_around(parent.part)
-            if around:  # constructions on a tapered parent start from its (undrawn) box
-                lines += around
-                seen = (self._box_steps if described is not None else {}).setdefault(
-                    parent.part, step)
-                box_sentences.append(
-                    _t("primitive.box_around", parent=parent.part) if seen == step
-                    else _t("primitive.box_reuse", parent=parent.part, step=seen))
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
-            lines += own
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
                 faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
-            built.append((anchor, parent.part, face, con))
-            if carry:
-                carried = True
-                lines += carry
+            built.append((anchor, parent.part, face, con, own, carry))
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
             if k and _too_small(self.camera, face.corners, k, self.settings.eyeball_mm2):
                 eyeball = True
-        by_eye = self.by_eye_sentence(cand)
+        loose = self.loose_axes(cand)
+        dims = _join([words.dim(a) for a in loose])
+        parents = _join(_unique(self.say(self.by_id[a.parent].part) for a in cand.anchors))
+        summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
+                              for a in cand.anchors])) + "."
         if eyeball:
-            where = _join([_position(words, a, self.by_id[a.parent].part, True)
-                           for a in cand.anchors])
-            text = " ".join([_t("primitive.eyeball", part=part, where=where, shape=shape)]
-                            + ([by_eye] if by_eye else []))
-            return _Draft(part, "primitive", text, True, (), strokes)
-        parts = _unique(box_sentences) + _unique(_construct_sentences(words, built, [] if described is None else described,
-                                             step, self.tol)) + _unique(flat_sentences)
-        if carried:
-            parts.append(_t("primitive.carry", part=part))
-        for anchor, ppart, face, _ in built:  # a mid-plane anchor: the part straddles a line
+            specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
+                                                         True)) for a in cand.anchors]
+            subs = self.lettered(specs + ([spec("by_eye", dims=dims)] if loose else []))
+            return [_Draft(part, "primitive", True, (), strokes,
+                           _t("headline.eyeball", Part=_cap(name), shape=shape) + note, subs,
+                           summary)]
+        # Units of construction, one per parent face (lines shared on a face stay together).
+        units: dict[tuple[str, int, str], _Unit] = {}
+        earlier = [] if described is None else described
+        boxed: set[str] = set()
+        known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
+        carried: dict[int, list[Pts]] = {}
+        carry_lines: list[_Line] = []
+        for anchor, ppart, face, con, own, carry in built:
+            unit = units.setdefault((anchor.parent, face.normal, face.end), _Unit(ppart))
+            unit.anchors.append(anchor)
+            around = self.box_around(ppart)
+            if around and ppart not in boxed:  # constructions on a tapered parent start from its box
+                boxed.add(ppart)
+                unit.lines += around
+                seen = self._box_steps.get(ppart)
+                unit.specs.append(spec("box_around", parent=self.say(ppart)) if seen is None
+                                  else spec("box_reuse", parent=self.say(ppart), step=seen))
+            a, b = con.result.start, con.result.end
+            old = [n for p, q, n in earlier if _same_segment(a, b, p, q, self.tol)]
+            twice = any(_same_segment(a, b, p, q, self.tol)
+                        for u in units.values() for p, q in u.results)
+            if twice:  # the same line from another face of the parent: said once
+                pass
+            elif old and old[0] < step:
+                unit.specs.append(spec("reuse", ("reuse", old[0], a, b), ("reuse", old[0]),
+                                       line=Pts((a, b)), step=old[0]))
+                known.append((a, b))
+                unit.results.append((a, b))
+            else:
+                unit.specs += construction_specs(con, self.say(ppart),
+                                                 words.face(face.normal, face.end), words.vp,
+                                                 self.tol)
+                unit.room = unit.room or entry_for(anchor.ratio).needs_room
+                unit.results.append((a, b))
+            unit.lines += own
+            if carry:
+                carry_lines += carry
+                runs = carried.setdefault(_moving_axis(carry[0]), [])
+                if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
+                    runs.append(Pts((a, b)))
+        for unit in units.values():  # a line reused from an earlier step is not drawn again
+            unit.specs = [x for x in unit.specs if not _draws_known(x, known, self.tol)]
+        closing: list[Spec] = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
+                               for axis, runs in carried.items()]
+        closing += flat
+        for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
             if anchor.end == "mid":
-                entry = entry_for(anchor.ratio)
-                names = _raw("primitive.centred_on")
-                line = names.get(entry.name, names["extend"]).format(
-                    edge=words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi"))
-                parts.append(_t("primitive.centred", part=part, line=line, parent=ppart,
-                                face=words.face(face.normal, face.end),
-                                lo=words.side(anchor.axis, "lo"),
-                                hi=words.side(anchor.axis, "hi")))
-        parts.append(_t("primitive.place", part=part, shape=shape))
-        if by_eye:
-            parts.append(by_eye)
-        return _Draft(part, "primitive", " ".join(parts), False, tuple(lines), strokes)
+                closing.append(spec("centred", part=name,
+                                    line=Pts((con.result.start, con.result.end))))
+        closing.append(spec("place_by_eye", shape=shape, dims=dims) if loose
+                       else spec("place", shape=shape))
+        head = _t("headline.anchored", Part=_cap(name), shape=shape, parents=parents) + note
+        groups = self.pack(list(units.values()), closing, head, step)
+        drafts: list[_Draft] = []
+        for k, group in enumerate(groups[:-1]):
+            here = step + k
+            subs = self.lettered([x for u in group for x in u.specs])
+            for u in group:
+                if described is not None:
+                    described.extend((a, b, here) for a, b in u.results)
+                for x in u.specs:
+                    if x.key == "box_around":
+                        self._box_steps.setdefault(u.parent, here)
+            gparents = _join(_unique(self.say(u.parent) for u in group))
+            gsummary = _t("substep.guides_for", words=_join(_unique(
+                _ratio_words(words, a, self.say(self.by_id[a.parent].part))
+                for u in group for a in u.anchors)))
+            drafts.append(_Draft(part, "guides", False, tuple(ln for u in group for ln in u.lines),
+                                 (), _t("headline.guides", part=name, parents=gparents), subs,
+                                 gsummary))
+        last = groups[-1]
+        here = step + len(groups) - 1
+        before = [u for g in groups[:-1] for u in g]
+        reuse = ([spec("reuse", line=Many(tuple(Pts(r) for u in before for r in u.results)),
+                       step=_join([str(step + k) for k in range(len(groups) - 1)]))]
+                 if before else [])
+        subs = self.lettered(reuse + [x for u in last for x in u.specs] + closing)
+        for u in last:
+            if described is not None:
+                described.extend((a, b, here) for a, b in u.results)
+            for x in u.specs:
+                if x.key == "box_around":
+                    self._box_steps.setdefault(u.parent, here)
+        lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
+                 + [ln for u in last for ln in u.lines] + carry_lines)
+        drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
+                             summary))
+        return drafts
+
+    def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int
+             ) -> list[list["_Unit"]]:
+        """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
+        the last group goes with ``closing`` (the placing sub-steps); one unit alone may
+        exceed the limit (it is not cut)."""
+        def fits(group: list[_Unit], extra: list[Spec], headline: str) -> bool:
+            (subs, _), = letter_steps([self.lettered([x for u in group for x in u.specs]
+                                                     + extra)], self.tol, _substep, _join)
+            text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
+                                          for k, x in enumerate(subs)])
+            return len(text.split()) <= MAX_STEP_WORDS
+
+        if fits(units, closing, head) or not units:
+            return [units]
+        reuse = [spec("reuse", line=Many(tuple(Pts(r) for u in units for r in u.results)),
+                      step=str(step))]
+        # Edges extended and guides reused need no room: they stay with the placing step.
+        tail = [u for u in units if not u.room]
+        rest = [u for u in units if u.room]
+        while rest and fits([rest[-1]] + tail, reuse + closing, head):
+            tail.insert(0, rest.pop())
+        groups: list[list[_Unit]] = []
+        for u in rest:
+            if groups and fits(groups[-1] + [u], [], head):
+                groups[-1].append(u)
+            else:
+                groups.append([u])
+        return groups + [tail]
 
     def box_around(self, part: str) -> list[_Line]:
         """For a part whose scaffold does not draw its selected box's faces (a frustum), the
@@ -953,14 +1091,12 @@ class _Context:
                     out.append(_Line("vanishing", _vec(a), _vec(b)))
         return out
 
-    def by_eye_sentence(self, cand: Any) -> str:
+    def loose_axes(self, cand: Any) -> list[int]:
+        """Axes of ``cand`` with fewer than two anchored ends (judged by eye), not flat."""
         biggest = max(_extent(cand.box, a) for a in range(3))
-        loose = [a for a in range(3)
-                 if sum(1 for an in cand.anchors if an.axis == a) < 2
-                 and _extent(cand.box, a) > 1e-9 * biggest]
-        if not loose:
-            return ""
-        return _t("primitive.by_eye", dims=_join([self.words.dim(a) for a in loose]))
+        return [a for a in range(3)
+                if sum(1 for an in cand.anchors if an.axis == a) < 2
+                and _extent(cand.box, a) > 1e-9 * biggest]
 
     def ellipse_draft(self, part: str, box: Box, basic: bool) -> _Draft:
         prim = self.plan.primitive(part)
@@ -978,14 +1114,18 @@ class _Context:
             if _too_small(self.camera, face.corners, 4, self.settings.eyeball_mm2):
                 eyeball = True
         u, v = ends[0].in_axes
-        if basic:
-            text = _t("basic.ellipse", part=part)
-        elif eyeball:
-            text = _t("ellipse.eyeball", part=part)
+        name = _cap(self.say(part))
+        if eyeball:
+            head = _t("headline.ellipse_eyeball", Part=name)
+            specs = [spec("ellipse_by_eye")]
         else:
-            text = _t("ellipse.guided", part=part, vp_u=self.words.vp(u), vp_v=self.words.vp(v))
-        return _Draft(part, "ellipse", text, eyeball, () if eyeball else tuple(lines),
-                      tuple(strokes))
+            head = _t("headline.ellipse", Part=name)
+            specs = [spec("ellipse_centre"),
+                     spec("ellipse_lines", vp_u=self.words.vp(u), vp_v=self.words.vp(v)),
+                     spec("ellipse_draw")]
+        subs = self.lettered(specs)
+        return _Draft(part, "ellipse", eyeball, () if eyeball else tuple(lines),
+                      tuple(strokes), head, subs)
 
     def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
         """Contour steps, front to back (:func:`_front_to_back`); each part's lines are its
@@ -996,22 +1136,138 @@ class _Context:
         for part in order:
             if not finals[part]:
                 continue
-            key = "contour.first" if not out else "contour.next"
-            out.append(_Draft(part, "contour", _t(key, part=part), False, (), finals[part]))
+            key = "contour_first" if not out else "contour_next"
+            out.append(_Draft(part, "contour", False, (), finals[part],
+                              _t("headline.contour", Part=_cap(self.say(part))),
+                              (spec(key),)))
         return out
+
+    # -------------------------------------------------------------- repeated parts
+    def congruent(self, a: str, b: str, boxes: dict[str, Box]) -> bool:
+        """Two parts are the same shape: same primitive type and axis, box extents within
+        :data:`REPEAT_TOL` of the larger box's largest extent, and meshes with the same number
+        of triangles and surface areas within ``REPEAT_TOL`` (instances of one mesh)."""
+        pa, pb = self.plan.primitive(a), self.plan.primitive(b)
+        if (pa.type, pa.axis) != (pb.type, pb.axis) or pa.type == "custom":
+            return False
+        ea = np.subtract(boxes[a][1], boxes[a][0])
+        eb = np.subtract(boxes[b][1], boxes[b][0])
+        scale = max(float(ea.max()), float(eb.max()), 1e-300)
+        if float(np.abs(ea - eb).max()) > REPEAT_TOL * scale:
+            return False
+        ma, mb = self.originals[a], self.originals[b]
+        if len(ma.faces) != len(mb.faces):
+            return False
+        area_a, area_b = _mesh_area(ma), _mesh_area(mb)
+        return abs(area_a - area_b) <= REPEAT_TOL * max(area_a, area_b)
+
+    def repeat_groups(self, order: Sequence[str], boxes: dict[str, Box],
+                      parents: dict[str, set[str]]) -> list[list[str]]:
+        """Parts in drawing order, identical ones (:meth:`congruent`) drawn as one group at the
+        first one's place: a later part joins when every part it hangs off is drawn by then
+        (before the group, or in it)."""
+        groups: list[list[str]] = []
+        placed: set[str] = set()
+        for i, p in enumerate(order):
+            if p in placed:
+                continue
+            group = [p]
+            before = set(order[:i]) - placed | placed
+            for q in order[i + 1:]:
+                if q in placed or not self.congruent(p, q, boxes):
+                    continue
+                if parents.get(q, set()) <= before | set(group):
+                    group.append(q)
+            placed.update(group)
+            groups.append(group)
+        return groups
+
+    def same_sentence(self, members: Sequence[str], shape: str) -> list[Spec]:
+        """"Knob 2 and knob 3: the same box, its back in line with the body's front." for the
+        group's other members, those placed alike said together."""
+        by_where: dict[str, list[str]] = {}
+        for q in sorted(members, key=lambda q: _natural(self.say(q))):
+            cand = self.chosen[q]
+            where = _join([_ratio_words(self.words, a, self.say(self.by_id[a.parent].part))
+                           for a in cand.anchors])
+            if len(where.split()) > REPEAT_WHERE_WORDS:  # a copy is placed by eye, not read
+                where = ""
+            by_where.setdefault(where, []).append(q)
+        out = []
+        for where, qs in by_where.items():
+            who = _cap(_join([self.say(q) for q in qs]))
+            out.append(spec("repeat", parts=who, shape=shape, where=where) if where
+                       else spec("repeat_free", parts=who, shape=shape))
+        return out
+
+    def merge_group(self, first: _Draft, members: Sequence[str], extra: Sequence[_Draft],
+                    sentences: Sequence[Spec]) -> _Draft:
+        """``first`` with the other members' strokes (and guides) and ``sentences`` added."""
+        return replace(first, strokes=first.strokes + tuple(s for d in extra for s in d.strokes),
+                       lines=first.lines + tuple(ln for d in extra for ln in d.lines),
+                       specs=first.specs + tuple(sentences),
+                       summary=" ".join(x for x in (first.summary, *map(_substep_of, sentences))
+                                        if x),
+                       group=tuple(members))
 
     def guided(self) -> tuple[_Draft, ...]:
         if self._guided is None:
             keep = self.kept(self.adjusted, anchoring=True)
             order = self.guided_order(keep)
-            described: list[tuple[Vec3, Vec3, int, Any]] = []
-            drafts = [self.primitive_draft(p, i == 0, i + 1, described, drawn=order[:i])
-                      for i, p in enumerate(order)]
-            drafts += [self.ellipse_draft(p, self.chosen[p].box, False) for p in order
-                       if self.plan.primitive(p).type == "cylinder"
-                       and self.plan.primitive(p).axis is not None]
-            drafts += self.contour_drafts(order, self.adjusted)
-            self._guided = tuple(drafts)
+            boxes = {p: self.chosen[p].box for p in order}
+            parents = {p: {self.by_id[pid].part for pid in self.chosen[p].parents} for p in order}
+            groups = self.repeat_groups(order, boxes, parents)
+            described: list[tuple[Vec3, Vec3, int]] = []
+            drafts: list[_Draft] = []
+            drawn: list[str] = []
+            for gi, group in enumerate(groups):
+                p = group[0]
+                made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn)
+                if len(group) > 1:
+                    shape = self.words.shape(self.plan.primitive(p).type)
+                    others = [_Draft(q, "primitive", False, (),
+                                     _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
+                                               self.tol), "") for q in group[1:]]
+                    made[-1] = self.merge_group(made[-1], group, others,
+                                                self.same_sentence(group[1:], shape))
+                drafts += made
+                drawn += group
+            order = [q for g in groups for q in g]
+            for group in groups:
+                p = group[0]
+                prim = self.plan.primitive(p)
+                if prim.type != "cylinder" or prim.axis is None:
+                    continue
+                first = self.ellipse_draft(p, boxes[p], False)
+                extra = [self.ellipse_draft(q, boxes[q], False) for q in group[1:]]
+                if extra:  # the same construction on each: said once, drawn on all
+                    names = _cap(_join([self.say(q) for q in group]))
+                    key = "ellipse_many_eyeball" if first.eyeball else "ellipse_many"
+                    first = replace(first, headline=_t(f"headline.{key}", Parts=names),
+                                    strokes=first.strokes + tuple(
+                                        st for d in extra for st in d.strokes),
+                                    lines=first.lines + tuple(ln for d in extra for ln in d.lines),
+                                    group=tuple(group))
+                drafts.append(first)
+            contours = self.contour_drafts(order, self.adjusted)
+            lead = {q: g[0] for g in groups for q in g}
+            merged: list[_Draft] = []
+            at: dict[str, int] = {}
+            for d in contours:  # a group's outlines together, where its first one comes
+                head = lead.get(d.part, d.part)
+                if head in at:
+                    k = at[head]
+                    merged[k] = replace(merged[k], strokes=merged[k].strokes + d.strokes,
+                                        group=merged[k].group + (d.part,))
+                else:  # the step is named after the group's first part, as its other steps
+                    at[head] = len(merged)
+                    merged.append(replace(d, part=head, group=(d.part,)))
+            for k, d in enumerate(merged):
+                if len(d.group) > 1:
+                    names = _cap(_join([self.say(q) for q in d.group]))
+                    merged[k] = replace(d, headline=_t("headline.contour_many", Parts=names))
+            drafts += merged
+            self._guided = tuple(self.letter(drafts))
         return self._guided
 
     def basic(self) -> tuple[_Draft, ...]:
@@ -1023,14 +1279,18 @@ class _Context:
             for i, p in enumerate(order):
                 prim = self.plan.primitive(p)
                 shape = self.words.shape(prim.type)
-                text = _t("basic.first" if i == 0 else "basic.part", part=p, shape=shape)
-                drafts.append(_Draft(p, "basic", text, True, (),
-                                     _scaffold(p, prim, prim.box, self.camera, self.tol)))
+                head = _t("headline.first" if i == 0 else "headline.basic",
+                          Part=_cap(self.say(p)), shape=shape)
+                subs = ((spec("first_edges"), spec("first_corners")) if i == 0
+                        else (spec("basic_part"),))
+                drafts.append(_Draft(p, "basic", True, (),
+                                     _scaffold(p, prim, prim.box, self.camera, self.tol),
+                                     head, subs))
             drafts += [self.ellipse_draft(p, self.plan.primitive(p).box, True) for p in order
                        if self.plan.primitive(p).type == "cylinder"
                        and self.plan.primitive(p).axis is not None]
             drafts += self.contour_drafts(order, self.originals)
-            self._basic = tuple(drafts)
+            self._basic = tuple(self.letter(drafts))
         return self._basic
 
     # -------------------------------------------------------------- guides
@@ -1057,6 +1317,10 @@ class _Context:
                 out.append(tuple(step.items()))
             self._ids = tuple(out)
         return self._ids
+
+    def label(self, name: str, point: Vec3, kind: str = "point") -> Label:
+        mm = self.camera.project(np.array([point], dtype=float))[0]
+        return Label(name, point, (float(mm[0]), float(mm[1])), kind)
 
     def view_plan(self, name: str, level: str, paper: PaperSpec) -> ViewPlan:
         if level not in LEVEL_ROLES:
@@ -1087,9 +1351,29 @@ class _Context:
                       self._canon[gid][1], mm[gid][0], mm[gid][1], role)
                 for gid, role in gs)
             alive = tuple(g for g in ordered if first[g] <= i <= last[g])
-            steps.append(Step(i + 1, d.part, d.kind, d.text, d.eyeball, guides, d.strokes, alive))
+            box = None
+            if d.part is not None and d.kind in ("primitive", "basic", "contour"):
+                box = (self.plan.primitive(d.part).box if level == "basic"
+                       else self.chosen[d.part].box)
+            named = tuple(self.label(n, p, "part")
+                          for n, p in (self.part_labels(d.part, box) if box is not None else ()))
+            if level == "master":
+                subs: tuple[str, ...] = ()
+                labels: tuple[Label, ...] = named
+                summary = d.summary
+                text = " ".join(x for x in (d.headline, summary) if x)
+            else:
+                subs, summary = d.substeps, ""
+                labels = tuple(self.label(n, p) for n, p in d.labels) + named
+                text = " ".join([d.headline] + [_t("step_text.number", n=k + 1, text=x)
+                                                 for k, x in enumerate(subs)])
+            steps.append(Step(i + 1, d.part, d.kind, text, d.eyeball, guides, d.strokes, alive,
+                              d.headline, subs, summary, labels))
+        shown = {st.part for st in steps if st.part is not None}
+        renamed = tuple((self.names[p].label, p) for p in sorted(shown)
+                        if not self.names[p].readable)
         return ViewPlan(name, level, (float(paper.width_mm), float(paper.height_mm)), self.camera,
-                        self.vps, tuple(steps))
+                        self.vps, tuple(steps), renamed)
 
 
 def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
@@ -1111,7 +1395,9 @@ def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSett
     ctx = _Context(plan=plan, camera=camera, settings=settings, vps=vps,
                    words=_Words(camera, vps, bounds), tol=tol,
                    by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
-                   originals={p.name: p for p in plan.model.parts})
+                   originals={p.name: p for p in plan.model.parts},
+                   names=display_names([p.name for p in plan.model.parts],
+                                       label_format=templates.lookup("pages", "parts.label")))
     return ctx
 
 

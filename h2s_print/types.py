@@ -270,6 +270,24 @@ class Stroke:
 
 
 @dataclass(frozen=True, slots=True)
+class Label:
+    """A lettered point on a step's picture, named by the step's sub-steps (issue 11).
+
+    Attributes:
+        name: the letter(s), e.g. ``A`` or ``B'``.
+        at3d: the point, model units.
+        at_mm: its projection on the sheet, mm.
+        kind: ``point`` (a lettered construction point) or ``part`` (the short name of a part
+            whose own name is not readable words, at the centre of its box).
+    """
+
+    name: str
+    at3d: Vec3
+    at_mm: tuple[float, float]
+    kind: str = "point"
+
+
+@dataclass(frozen=True, slots=True)
 class Step:
     """One instruction of a tutorial (DESIGN.md §3 ``steps``).
 
@@ -283,6 +301,13 @@ class Step:
         strokes: the new drawing lines of this step.
         alive: ids of every guide still shown at this step (earlier guides not yet retired),
             including this step's.
+        headline: the step's headline ("Lens: a box placed with guides on the body.").
+        substeps: the numbered sub-steps (novice, apprentice and basic), one construction
+            each, naming points by the letters of ``labels``; empty at master.
+        summary: the ratio words a master reads after the headline (empty at other levels).
+        labels: the lettered points ``substeps`` name, drawn on the step's picture.
+
+    ``text`` is the headline followed by the numbered sub-steps (or the summary).
     """
 
     index: int
@@ -293,6 +318,10 @@ class Step:
     guides: tuple[Guide, ...]
     strokes: tuple[Stroke, ...]
     alive: tuple[str, ...] = ()
+    headline: str = ""
+    substeps: tuple[str, ...] = ()
+    summary: str = ""
+    labels: tuple[Label, ...] = ()
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -305,3 +334,4 @@ class ViewPlan:
     camera: Camera
     vanishing_points: tuple[VanishingPoint, ...]
     steps: tuple[Step, ...]
+    part_names: tuple[tuple[str, str], ...] = ()  # (label, full name) of renamed parts

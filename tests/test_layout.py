@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -268,11 +269,29 @@ def test_erase_hint_counts_retired_guides():
 
 def test_instruction_text_is_wrapped_whole_and_spelled_for_helvetica():
     plan, pages = workbook("apprentice")
-    got = [" ".join(t.string for t in texts(p, "instruction")) for p in pages[2:5]]
+    got = [" ".join(t.string for t in p.items if isinstance(t, L.Text)
+                    and t.role in ("headline", "substep", "summary")) for p in pages[2:5]]
     joined = " ".join(got)
     for step in plan.steps:
-        assert L.plain_text(step.text) in joined
+        assert L.plain_text(step.headline or step.text) in joined
     assert "1/3 of the body" in joined and "⅓" not in joined
+
+
+def test_headline_and_numbered_substeps_are_set_in_order():
+    plan, pages = workbook("novice")
+    step = replace(plan.steps[1], headline="Lens: a box.", substeps=(
+        "Draw the diagonals AC and BD.", "Through E, draw FG toward the left vanishing point."))
+    items, _ = L._instruction(10.0, 100.0, 120.0, step, 11.0)
+    head = [t for t in items if t.role == "headline"]
+    nums = [t for t in items if t.role == "substep_number"]
+    subs = [t for t in items if t.role == "substep"]
+    assert [t.string for t in head] == ["Lens: a box."] and head[0].font == "Helvetica-Bold"
+    assert [t.string for t in nums] == ["1.", "2."]
+    assert [t.string for t in subs] == list(step.substeps)
+    # each number sits on its sub-step's first baseline, the text indented past it
+    for n, t in zip(nums, subs):
+        assert n.y_mm == pytest.approx(t.y_mm) and t.x_mm == pytest.approx(10.0 + L.SUBSTEP_INDENT_MM)
+    assert head[0].y_mm > subs[0].y_mm > subs[1].y_mm
 
 
 def test_vanishing_lines_head_for_the_vps():

@@ -557,8 +557,8 @@ def test_step_pages_exported_as_svg_and_png(tmp_path, capsys):
     assert n >= 2 and n_step_pages == (n + 1) // 2
     stems = [f"steps-{k:02d}-{k + 1:02d}" if k < n else f"step-{k:02d}" for k in range(1, n + 1, 2)]
     svgs, pngs = sorted(folder.glob("*.svg")), sorted(folder.glob("*.png"))
-    assert [p.name for p in svgs] == [f"{stem}.svg" for stem in stems]
-    assert [p.name for p in pngs] == [f"{stem}.png" for stem in stems]
+    assert [p.name for p in svgs] == sorted(f"{stem}.svg" for stem in stems)
+    assert [p.name for p in pngs] == sorted(f"{stem}.png" for stem in stems)
     for p in svgs:
         assert ET.parse(p).getroot().tag == "{http://www.w3.org/2000/svg}svg"
     for p in pngs:

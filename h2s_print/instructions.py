@@ -1,0 +1,308 @@
+"""Instructions a person can follow while drawing: lettered points and short sub-steps (issue 11).
+
+A drawing book does not describe every line in a paragraph: its picture carries letters at the
+points that matter (A, B, C ...), and its text is a short headline plus numbered sub-steps,
+one construction each ("1. Draw the diagonals AC and BD of the body's front face. 2. Through
+their crossing E draw FG toward the right vanishing point.").  This module turns the sequence
+stage's constructions into such sub-steps.
+
+Two passes, so that letters are chosen knowing every point a step names:
+
+1. :func:`construction_specs` (and the sequence stage's own specs) describe each sub-step as a
+   :class:`Spec`: a template key and its fields, where a field may be a tuple of 3D points
+   (:class:`Pts`, printed as their letters run together: ``AC``).  Specs that draw the same
+   lines (the diagonals of one face serve its ½ line along both axes and every ¼ line) are
+   said once (:func:`unique_specs`).
+2. :func:`letter_steps` gives the points of the whole tutorial their letters and formats the
+   sentences.
+
+Letters (decisions where the issue is silent)
+---------------------------------------------
+* Letters are the capitals without ``I`` and ``O`` (they read as 1 and 0 next to a ruler);
+  after ``Z`` come ``A'``, ``B'`` ...
+* **A point keeps its letter** from the first step that names it to the last (a guide reused
+  later keeps its letters, and so does a face used again): :func:`letter_steps` letters the
+  whole tutorial at once, so that two points named in overlapping stretches of steps never
+  share a letter, and each new point takes the first letter free over its stretch (each
+  picture shows only its own step's letters, so pages start again near ``A`` once earlier
+  points are done with).
+* Two 3D points within ``tol`` are one point.
+* Sub-steps that do the same thing twice on one face (the diagonals of both half faces for
+  the ¼ and ¾ lines, the two connecting lines of ⅓ and ⅔, both edges of a face) are said
+  once, in the plural (:func:`unique_specs`; template key ``<key>_two`` where the plural
+  needs other words).
+* Two 3D points within ``tol`` are one point.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from .constructions import Construction
+from .types import Vec3
+
+#: Letters for points, in order (no I and O).
+ALPHABET = tuple("ABCDEFGHJKLMNPQRSTUVWXYZ")
+
+
+@dataclass(frozen=True, slots=True)
+class Pts:
+    """Points named by their letters run together in a sentence (``AC`` for a line)."""
+
+    points: tuple[Vec3, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Many:
+    """Several runs of points, joined as a list in a sentence (``AB, CD and EF``)."""
+
+    items: tuple[Pts, ...]
+
+
+@dataclass(frozen=True, slots=True)
+class Spec:
+    """One sub-step before letters: a template key under ``substep`` and its fields.
+
+    Attributes:
+        key: template key (``templates/steps.yaml``, section ``substep``).
+        fields: template fields; :class:`Pts` values become letters.
+        same: identity for :func:`unique_specs` (two specs with equal ``same`` draw the same
+            lines: said once).  Empty: never merged.
+    """
+
+    key: str
+    fields: tuple[tuple[str, Any], ...]
+    same: tuple = ()
+    pair: tuple = ()
+
+
+def spec(key: str, same: tuple = (), pair: tuple = (), **fields: Any) -> Spec:
+    """A :class:`Spec` (fields sorted by name, so equal specs compare equal)."""
+    return Spec(key, tuple(sorted(fields.items())), same, pair)
+
+
+def unique_specs(specs: Sequence[Spec], plural: Callable[[str], str] = lambda k: k
+                 ) -> list[Spec]:
+    """``specs`` without repeats, twins said together.
+
+    A spec equal to an earlier one (same ``same``, or the same key and fields) is dropped.  A
+    spec with the same ``pair`` (and key) as an earlier one is merged into it: fields that
+    differ become a :class:`Many` of both, and the key becomes ``plural(key)``.
+    """
+    out: list[Spec] = []
+    seen: set = set()
+    paired: dict[tuple, int] = {}
+    for s in specs:
+        key = ("same",) + s.same if s.same else ("spec", s.key, s.fields)
+        if key in seen:
+            continue
+        seen.add(key)
+        twin = paired.get((s.key,) + s.pair) if s.pair else None
+        if twin is None:
+            if s.pair:
+                paired[(s.key,) + s.pair] = len(out)
+            out.append(s)
+            continue
+        first = out[twin]
+        mine = dict(s.fields)
+        fields = []
+        for name, value in first.fields:
+            other = mine.get(name, value)
+            if other != value and isinstance(value, (Pts, Many)) and isinstance(other, (Pts, Many)):
+                value = Many(_runs(value) + _runs(other))
+            fields.append((name, value))
+        out[twin] = Spec(plural(first.key), tuple(fields), first.same, ())
+    return out
+
+
+def _letter(k: int) -> str:
+    n = len(ALPHABET)
+    return ALPHABET[k % n] + "'" * (k // n)
+
+
+def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
+                 render: Callable[[str, dict[str, Any]], str],
+                 join: Callable[[list[str]], str] = ", ".join
+                 ) -> list[tuple[list[str], list[tuple[str, Vec3]]]]:
+    """Letters for every point the steps' sub-steps name, and the formatted sub-steps.
+
+    A point *lives* from the first step that names it to the last; two points whose lives
+    overlap get different letters, and a point keeps its letter all its life (module docstring,
+    *Letters*).  Letters are given greedily in order of first mention, each point the first
+    letter no living point holds: for intervals this uses the fewest letters possible.
+
+    Args:
+        steps: each step's sub-steps, in order.
+        tol: two points within this distance (model units, max norm) are one point.
+        render: formats a template key with fields (letters already substituted).
+        join: joins the runs of a :class:`Many` field.
+
+    Returns:
+        per step, ``(sentences, labels)``: one sentence per spec, and ``(letter, point)`` for
+        each point it names, in order of first mention.
+    """
+    points: list[np.ndarray] = []
+
+    def find(p: Vec3) -> int:
+        q = np.asarray(p, dtype=float)
+        for i, r in enumerate(points):
+            if float(np.abs(r - q).max()) <= tol:
+                return i
+        points.append(q)
+        return len(points) - 1
+
+    named: list[list[int]] = []
+    for specs in steps:
+        order: list[int] = []
+        for s in specs:
+            for _, value in s.fields:
+                for p in _points_of(value):
+                    i = find(p)
+                    if i not in order:
+                        order.append(i)
+        named.append(order)
+    last: dict[int, int] = {}
+    for k, order in enumerate(named):
+        for i in order:
+            last[i] = k
+    letter: dict[int, str] = {}
+    held: list[tuple[int, str]] = []  # (last step, letter) of points lettered so far
+    for k, order in enumerate(named):
+        for i in order:
+            if i in letter:
+                continue
+            busy = {x for end, x in held if end >= k}
+            n = 0
+            while _letter(n) in busy:
+                n += 1
+            letter[i] = _letter(n)
+            held.append((last[i], letter[i]))
+    out = []
+    for specs, order in zip(steps, named):
+        sentences = []
+        for s in specs:
+            fields = {}
+            for name, value in s.fields:
+                if isinstance(value, Pts):
+                    value = "".join(letter[find(p)] for p in value.points)
+                elif isinstance(value, Many):
+                    value = join(["".join(letter[find(p)] for p in run.points)
+                                  for run in value.items])
+                fields[name] = value
+            sentences.append(render(s.key, fields))
+        out.append((sentences, [(letter[i], _vec(points[i])) for i in order]))
+    return out
+
+
+def _runs(value: Pts | Many) -> tuple[Pts, ...]:
+    return value.items if isinstance(value, Many) else (value,)
+
+
+def _points_of(value: Any) -> tuple[Vec3, ...]:
+    if isinstance(value, Pts):
+        return value.points
+    if isinstance(value, Many):
+        return tuple(p for run in value.items for p in run.points)
+    return ()
+
+
+def _vec(p: np.ndarray) -> Vec3:
+    return (float(p[0]), float(p[1]), float(p[2]))
+
+
+def _key(points: Sequence[Vec3], tol: float) -> frozenset:
+    return frozenset(tuple(int(round(c / tol)) for c in p) for p in points)
+
+
+def construction_specs(con: Construction, parent: str, face: str,
+                       vp: Callable[[int], str], tol: float) -> list[Spec]:
+    """The sub-steps of one construction (``h2s_print.constructions.construct``), one per
+    ruler operation: the diagonals of a (half) face, a line through their crossing, a line
+    through two points and where it crosses another, an edge extended.
+
+    Args:
+        con: the construction.
+        parent: the parent's name as the text calls it.
+        face: the construction face's name (``front`` ...).
+        vp: the phrase for lines along a model axis (``toward the left vanishing point``).
+        tol: two points within this distance are one (for merging equal sub-steps).
+    """
+    at = dict(con.points)
+    face_id = (_key(con.face.corners, tol), con.axis)
+    s_axis = con.axis
+    t_axis = con.result.axis if con.result.axis is not None else s_axis
+    out: list[Spec] = []
+    last: str | None = None
+    lines = list(con.lines)
+    i = 0
+    while i < len(lines):
+        ln = lines[i]
+        a, b = ln.names
+        if ln.key == "align":
+            out.append(spec("edge", ("edge", _key((at[a], at[b]), tol)), ("edge", face_id),
+                            line=Pts((at[a], at[b])), parent=parent, face=face, vp=vp(t_axis)))
+        elif ln.key == "diagonal":
+            a2, b2 = lines[i + 1].names
+            i += 1
+            if {a, b} == {"A", "C"}:
+                corners = Pts(tuple(at[n] for n in "ABCD"))
+                out.append(spec("diagonals", ("diagonals", _key(corners.points, tol)),
+                                corners=corners, first=Pts((at["A"], at["C"])),
+                                second=Pts((at["B"], at["D"])), point=Pts((at["O"],)),
+                                parent=parent, face=face))
+                last = "O"
+            else:
+                left = "A" in (a, b)
+                half = _half_corners(a, b, a2, b2, left)
+                last = "Q1" if left else "Q3"
+                out.append(spec("half_diagonals", ("diagonals", _key([at[n] for n in half], tol)),
+                                ("half", face_id), half=Pts(tuple(at[n] for n in half)),
+                                first=Pts((at[a], at[b])), second=Pts((at[a2], at[b2])),
+                                point=Pts((at[last],))))
+        elif ln.key == "cross":
+            out.append(spec("cross", ("line", _key((at[a], at[b]), tol)), point=Pts((at["O"],)),
+                            line=Pts((at[a], at[b])), vp=vp(s_axis)))
+        elif ln.key == "connect":
+            if not b.startswith("S"):  # thirds: C-E meets B-D at I1 (D-F meets A-C at I2)
+                crossing = "I1" if "C" in (a, b) else "I2"
+                diagonal = ("B", "D") if crossing == "I1" else ("A", "C")
+                out.append(spec("connect", ("line", _key((at[a], at[b]), tol)), ("third", face_id),
+                                line=Pts((at[a], at[b])), other=Pts(tuple(at[n] for n in diagonal)),
+                                point=Pts((at[crossing],))))
+                last = crossing
+            else:  # extension: origin -> midpoint of the shared edge -> the new point
+                mid = "F" if _s(at, con, b) > 1 else "E"
+                out.append(spec("connect_through", ("line", _key((at[a], at[b]), tol)),
+                                start=Pts((at[a],)), through=Pts((at[mid],)),
+                                point=Pts((at[b],))))
+                last = b
+        elif ln.key == "extend":
+            out.append(spec("extend", ("line", _key((at[a], at[b]), tol)),
+                            edge=Pts((at[a], at["B" if a == "A" else "A"])),
+                            vp=vp(s_axis)))
+        elif ln.key == "division":
+            through = last if last is not None else a
+            key = "from" if through in (a, b) else "through"
+            twin = ("result", face_id) if ln.role == "guide" and through in ("Q1", "Q3", "I1", "I2") else ()
+            out.append(spec(key, ("line", _key((at[a], at[b]), tol)), twin,
+                            point=Pts((at[through],)), line=Pts((at[a], at[b])),
+                            vp=vp(t_axis)))
+        i += 1
+    return out
+
+
+def _half_corners(a: str, b: str, a2: str, b2: str, left: bool) -> tuple[str, str, str, str]:
+    """Corners of the half face whose diagonals are ``a-b`` and ``a2-b2``, in order round it."""
+    names = {a, b, a2, b2}
+    s_half = next(n for n in names if n.startswith("S"))
+    t_half = next(n for n in names if n.startswith("T"))
+    return ("A", s_half, t_half, "D") if left else (s_half, "B", "C", t_half)
+
+
+def _s(at: dict[str, Vec3], con: Construction, name: str) -> float:
+    """The ``s`` coordinate (along the anchored axis, 0 at A, 1 at B) of a named point."""
+    lo, hi = con.face.box[0][con.axis], con.face.box[1][con.axis]
+    return (at[name][con.axis] - lo) / (hi - lo) if hi != lo else 0.0
