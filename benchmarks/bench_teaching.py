@@ -70,6 +70,8 @@ from h2s_print.errors import H2SError  # noqa: E402
 from h2s_print.layout import estimate_minutes  # noqa: E402
 from h2s_print.order import part_size, start_part  # noqa: E402
 from h2s_print.plan import Plan, build_plan  # noqa: E402
+from h2s_print import sequence as seq  # noqa: E402
+from h2s_print.names import display_names  # noqa: E402
 from h2s_print.sequence import sequence_views  # noqa: E402
 from h2s_print.types import ViewPlan  # noqa: E402
 
@@ -194,7 +196,30 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
     words = [len(s.text.split()) for vp in novice for s in vp.steps]
     new = [sum(1 for g in s.guides if g.status == "new") for vp in novice for s in vp.steps]
     out_of_box = beyond(plan)
+    # Instructions (issue 11)
+    ctx = seq._context(plan, tutorial.views[0], tutorial.paper, tutorial.sequence)
+    boxes = {p: c.box for p, c in chosen.items()}
+    classes: list[list[str]] = []
+    for p in sorted(boxes):
+        home = next((c for c in classes if ctx.congruent(c[0], p, boxes)), None)
+        if home is None:
+            classes.append([p])
+        else:
+            home.append(p)
+    names = display_names([p.name for p in plan.model.parts])
+    raw = [p for p, n in names.items() if not n.readable]
+    id_steps = sum(1 for v in views.values() for vp in v.values() for s in vp.steps
+                   if any(p in s.text or p.replace("_", " ") in s.text for p in raw))
+    all_words = [len(s.text.split()) for v in views.values() for vp in v.values()
+                 for s in vp.steps]
     return {
+        "shapes": len(classes),
+        "steps_max": max(len(vp.steps) for vp in novice),
+        "step_limit": 2.5 * len(classes) + 3,
+        "id_name_steps": id_steps,
+        "renamed": {p: names[p].label for p in raw},
+        "words_all_median": statistics.median(all_words) if all_words else 0,
+        "words_all_max": max(all_words, default=0),
         "parts": len(plan.model.parts),
         "custom": sorted(p.part for p in plan.primitives if p.type == "custom"),
         "steps": {name: {lv: len(vp.steps) for lv, vp in v.items()} for name, v in views.items()},
@@ -248,6 +273,22 @@ def totals(results: dict[str, dict[str, Any]]) -> str:
             f"{start:<5}").rstrip()
 
 
+HEADER_TEXT = (f"{'model':<14} {'shapes':>6} {'steps':>9} {'limit':>6} {'words med/max':>13} "
+               f"{'all levels':>10} {'id names':>8} {'minutes':>8}")
+
+
+def text_row(name: str, r: dict[str, Any]) -> str:
+    """Issue 11's figures: steps against 2.5 per distinct part shape + 3, words per step
+    (novice; and every level), steps naming a part by an id, estimated minutes (novice)."""
+    steps = "/".join(str(v["novice"]) for v in r["steps"].values())
+    minutes = [v["novice"] for v in r["minutes"].values()]
+    mins = f"{min(minutes)}-{max(minutes)}" if minutes else "-"
+    return (f"{name:<14} {r['shapes']:>6} {steps:>9} {r['step_limit']:>6g} "
+            f"{r['words_median']:g}/{r['words_max']:>13} "
+            f"{r['words_all_median']:g}/{r['words_all_max']:<6} {r['id_name_steps']:>8} "
+            f"{mins:>8}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--models", help="comma-separated config names (e.g. camera,chair_ingolf)")
@@ -287,6 +328,20 @@ def main() -> None:
         print(f"{name:<14} FAILED: {r['error']}" if "error" in r else row(name, r), flush=True)
     print("-" * len(HEADER))
     print(totals(results))
+    print()
+    print("instructions")
+    print(HEADER_TEXT)
+    print("-" * len(HEADER_TEXT))
+    for name, r in results.items():
+        if "error" not in r:
+            print(text_row(name, r))
+    ok = [r for r in results.values() if "error" not in r]
+    if ok:
+        print("-" * len(HEADER_TEXT))
+        print(f"{'all':<14} over limit: {sum(r['steps_max'] > r['step_limit'] for r in ok)} "
+              f"models; median of medians {statistics.median(r['words_median'] for r in ok):g}; "
+              f"max {max(r['words_max'] for r in ok)}; id names "
+              f"{sum(r['id_name_steps'] for r in ok)}")
     if args.json:
         args.json.write_text(json.dumps(results, indent=1, sort_keys=True) + "\n")
 

@@ -280,8 +280,9 @@ def construction_specs(con: Construction, parent: str, face: str,
                                 point=Pts((at[b],))))
                 last = b
         elif ln.key == "extend":
+            beyond = "B" if a == "A" else "A"
             out.append(spec("extend", ("line", _key((at[a], at[b]), tol)),
-                            edge=Pts((at[a], at["B" if a == "A" else "A"])),
+                            edge=Pts((at[a], at[beyond])), end=Pts((at[beyond],)),
                             vp=vp(s_axis)))
         elif ln.key == "division":
             through = last if last is not None else a

@@ -24,9 +24,10 @@ Decisions where the brief is silent (documented here, kept in one place):
   seen from the VP), clipped to the panel; VPs inside the panel get a mark and a label.
 * **Frame and green corners**: the sheet's frame is the drawing area inside the paper margins;
   its corners are green in every panel and on the calibrated sheet, so the two correspond.
-* **Estimated time**: :func:`estimate_minutes`, per step ``STEP_MINUTES[kind]`` plus half a
-  minute per new guide line, rounded up to 5 minutes (the paper reports 15-45 minutes per
-  tutorial).
+* **Estimated time**: :func:`estimate_minutes` counts what the pages make the reader draw, at
+  a beginner's pace: half a minute to read a step, 10 s per ruler line, a minute per scaffold
+  box and per part outlined, half a minute per ellipse; rounded up to 5 minutes (the paper
+  reports 15-45 minutes per tutorial of its four objects).
 * **Text**: Helvetica only; characters outside Windows-1252 are spelled out (``⅓`` -> ``1/3``)
   by :func:`plain_text` before measuring, so wrapped widths equal printed widths.
 * **Calibrated sheet**: an off-sheet vanishing point is an arrow on the frame (along the
@@ -67,9 +68,13 @@ log = logging.getLogger(__name__)
 
 PT_MM = 25.4 / 72.0  #: millimetres per PostScript point
 OUTLINE_SEP = " > "
-#: Minutes per step by ``Step.kind`` (plus :data:`GUIDE_MINUTES` per new guide).
-STEP_MINUTES = {"primitive": 3.0, "ellipse": 3.0, "contour": 2.0, "basic": 2.0}
-GUIDE_MINUTES = 0.5
+#: The time estimate (:func:`estimate_minutes`), a beginner's pace: reading a step, one ruler
+#: line toward a vanishing point (10 s), a part's scaffold box, one ellipse, one part's outlines.
+READ_MINUTES = 0.5
+GUIDE_MINUTES = 1.0 / 6.0
+BOX_MINUTES = 1.0
+ELLIPSE_MINUTES = 0.5
+OUTLINE_MINUTES = 1.0
 
 #: Colour roles used by items, as RGB in 0..1 (the renderer's palette).
 COLOURS: dict[str, tuple[float, float, float]] = {
@@ -637,7 +642,8 @@ def _boxes_overlap(a: Box2, b: Box2) -> bool:
 
 def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) -> list[Item]:
     """A dot at each label's point and its letters beside it (roles ``label_point`` and
-    ``label``), placed so that no two labels overlap each other or another label's dot, every
+    ``label``; a part's short name, kind ``part``, in blue without a dot, on the part if there
+    is room: role ``part_label``), placed so that no two labels overlap each other or another label's dot, every
     label stays inside the picture, and as few drawn lines as possible cross a label (fewest
     crossings, then nearest to its dot, then the preferred direction).
 
@@ -648,18 +654,23 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
     dots = [view.map(lb.at_mm) for lb in labels]
     x0, y0, x1, y1 = view.rect
     taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
-                          dy + LABEL_DOT_MM) for dx, dy in dots]
+                          dy + LABEL_DOT_MM) if lb.kind == "point" else (dx, dy, dx, dy)
+                         for lb, (dx, dy) in zip(labels, dots)]
     out: list[Item] = []
     pad = 0.25
     for k, (lb, (dx, dy)) in enumerate(zip(labels, dots)):
-        out.append(Circle(dx, dy, LABEL_DOT_MM, None, 0.0, "black", "label_point"))
+        part = lb.kind == "part"  # a part's short name: centred on the part, no dot
+        if not part:
+            out.append(Circle(dx, dy, LABEL_DOT_MM, None, 0.0, "black", "label_point"))
         w = text_width_mm(lb.name, LABEL_PT, "Helvetica-Bold")
         cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
         best: tuple[tuple, Text] | None = None
-        for ri, r in enumerate(LABEL_RADII_MM):
+        for ri, r in enumerate(((0.0,) if part else ()) + LABEL_RADII_MM):
             for di, (ux, uy) in enumerate(_LABEL_DIRS):
                 norm = math.hypot(ux, uy)
                 cx, cy = dx + r * ux / norm, dy + r * uy / norm
+                if r == 0.0:
+                    ux, uy = 0, 0
                 # the label's box touches (cx, cy) on the side facing the dot
                 bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
                 by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
@@ -671,7 +682,8 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
                 score = (_crossings(segs, box), ri, di)
                 if best is None or score < best[0]:
                     best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
-                                        "start", "black", "label"))
+                                        "start", "blue" if part else "black",
+                                        "part_label" if part else "label"))
             if best is not None and best[0][0] == 0:
                 break
         if best is None:
@@ -882,12 +894,19 @@ def _primer_page(f: _Frame, title: str, header_right: str,
 
 
 def estimate_minutes(plan: ViewPlan) -> int:
-    """Estimated time to work through ``plan``: per step ``STEP_MINUTES[kind]`` (2 min for
-    unknown kinds) plus ``GUIDE_MINUTES`` per new guide, rounded up to 5 minutes (>= 5)."""
-    total = 0.0
-    for step in plan.steps:
-        total += STEP_MINUTES.get(step.kind, 2.0)
-        total += GUIDE_MINUTES * sum(1 for g in step.guides if g.status == "new")
+    """Estimated time to work through ``plan``, at a beginner's pace, rounded up to 5 minutes
+    (at least 5): :data:`READ_MINUTES` to read each step, :data:`GUIDE_MINUTES` per new guide
+    line drawn with the ruler, :data:`BOX_MINUTES` per part's scaffold, :data:`ELLIPSE_MINUTES`
+    per ellipse and :data:`OUTLINE_MINUTES` per part outlined.  Each term counts what the
+    pages make the reader draw, so a master (no guides shown) is quicker than a novice."""
+    boxes = {st.part for s in plan.steps if s.kind in ("primitive", "basic")
+             for st in s.strokes}
+    ellipses = sum(1 for s in plan.steps for st in s.strokes if st.kind == "ellipse")
+    outlined = {st.part for s in plan.steps if s.kind == "contour" for st in s.strokes
+                if st.kind == "contour"}
+    guides = sum(1 for s in plan.steps for g in s.guides if g.status == "new")
+    total = (READ_MINUTES * len(plan.steps) + GUIDE_MINUTES * guides + BOX_MINUTES * len(boxes)
+             + ELLIPSE_MINUTES * ellipses + OUTLINE_MINUTES * len(outlined))
     return max(5, int(math.ceil(total / 5.0 - 1e-9)) * 5)
 
 
@@ -940,7 +959,7 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
         top -= 1.5
         for label, name in plan.part_names:
             para, top = _paragraph(x0 + 4, top, text_w - 4, _t("parts.entry", label=label,
-                                                                name=name), 9, role="part_name")
+                                                                full=name), 9, role="part_name")
             items += para
             top -= 1
     # The finished drawing, zoomed on its own extent.

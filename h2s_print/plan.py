@@ -140,8 +140,8 @@ def _step_json(step: Any) -> dict[str, Any]:
         "headline": step.headline,
         "substeps": list(step.substeps),
         "summary": step.summary,
-        "labels": [{"name": lb.name, "at3d": _vec(lb.at3d), "at_mm": _vec(lb.at_mm)}
-                   for lb in step.labels],
+        "labels": [{"name": lb.name, "kind": lb.kind, "at3d": _vec(lb.at3d),
+                    "at_mm": _vec(lb.at_mm)} for lb in step.labels],
     }
     strokes = [s for s in step.strokes if s.kind != "contour"]
     contours = [s for s in step.strokes if s.kind == "contour"]

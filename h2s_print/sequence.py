@@ -180,10 +180,18 @@ _XYZ = "xyz"
 
 
 def _t(key: str, **fields: Any) -> str:
-    for k in ("part", "parent"):  # part names are identifiers: "shutter_button" -> "shutter button"
+    for k in ("part", "parent", "other"):  # names are identifiers: "shutter_button" -> "shutter button"
         if isinstance(fields.get(k), str):
             fields[k] = fields[k].replace("_", " ")
+            fields.setdefault(f"the_{k}", _the(fields[k]))
     return templates.text("steps", key, **fields)
+
+
+def _the(name: str) -> str:
+    """``name`` with its article (``templates/steps.yaml`` ``article``): "the lens", but
+    "part 3" (a name ending in a number takes none)."""
+    key = "numbered" if re.search(r"\d$", name) else "definite"
+    return templates.text("steps", f"article.{key}", label=name)
 
 
 def _raw(key: str) -> Any:
@@ -450,6 +458,7 @@ class _Unit:
     results: list[tuple[Vec3, Vec3]] = field(default_factory=list)
     room: bool = False  # a construction that needs room on the face (not only edges)
     anchors: list[Any] = field(default_factory=list)
+    origin: dict[int, int] = field(default_factory=dict)  # result index -> step that drew it
 
 
 def _stroke(kind: str, part: str, points: np.ndarray, camera: Camera) -> Stroke:
@@ -649,6 +658,40 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
     amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
     return _t("ratio_words.extend", side=side, amount=amount, parent=parent,
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+def _segment_key(a: Vec3, b: Vec3, tol: float) -> frozenset:
+    """The same segment, whichever way round, within ``tol`` (a dictionary key)."""
+    return frozenset(tuple(int(round(c / tol)) for c in p) for p in (a, b))
+
+
+def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
+    """Consecutive drafts two to a step (the outlines, the ellipses of several parts): a
+    drawing teacher does not give each small part a page of its own.  Ellipse drafts pair only
+    when their sub-steps are the same (the same vanishing points)."""
+    out: list[_Draft] = []
+    single = True
+    for d in drafts:
+        prev = out[-1] if out else None
+        if (prev is not None and single and prev.kind == d.kind
+                and (d.kind != "ellipse" or prev.specs == d.specs)):
+            members = prev.group + d.group
+            both = list(prev.specs) + list(d.specs)
+            if d.kind == "contour":  # small ellipses first, then one tracing sub-step
+                both = ([x for x in both if not x.key.startswith("contour")]
+                        + [x for x in both if x.key.startswith("contour")][:1])
+            out[-1] = replace(prev, strokes=prev.strokes + d.strokes, lines=prev.lines + d.lines,
+                              specs=tuple(unique_specs(both)),
+                              eyeball=prev.eyeball or d.eyeball, group=members)
+            single = False
+        else:
+            out.append(d)
+            single = True
+    for k, d in enumerate(out):
+        if len(d.group) > 1:
+            out[k] = replace(d, headline=_t(f"headline.{headline}",
+                                            Parts=_cap(_join([say(q) for q in d.group]))))
+    return out
 
 
 def _draws_known(s: Spec, known: Sequence[tuple[Vec3, Vec3]], tol: float) -> bool:
@@ -898,9 +941,11 @@ class _Context:
 
     def primitive_drafts(self, part: str, first: bool, step: int = 0,
                          described: list[tuple[Vec3, Vec3, int]] | None = None,
-                         drawn: Sequence[str] = ()) -> list[_Draft]:
+                         drawn: Sequence[str] = (), repeat: Sequence[Spec] = ()
+                         ) -> list[_Draft]:
         """The primitive step of ``part`` (step number ``step``), preceded by guides steps when
-        its sub-steps would not fit :data:`MAX_STEP_WORDS` (module docstring, *Text*)."""
+        its sub-steps would not fit :data:`MAX_STEP_WORDS` (module docstring, *Text*);
+        ``repeat`` are the sub-steps drawing its copies (identical parts), said last."""
         cand = self.chosen[part]
         prim = self.plan.primitive(part)
         words = self.words
@@ -910,14 +955,14 @@ class _Context:
         note = (_raw("headline.cylinder_note")
                 if prim.type == "cylinder" and prim.axis is not None else "")
         if first:
-            subs = self.lettered([spec("first_edges"), spec("first_corners")])
+            subs = self.lettered([spec("first_edges"), spec("first_corners"), *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
             near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
             near.sort(key=lambda q: -part_size(self.chosen[q].box))
             subs = self.lettered([spec("free_near", other=self.say(near[0])) if near
-                                  else spec("free")])
+                                  else spec("free"), *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.free", Part=_cap(name), shape=shape) + note, subs)]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
@@ -941,13 +986,15 @@ class _Context:
                 eyeball = True
         loose = self.loose_axes(cand)
         dims = _join([words.dim(a) for a in loose])
-        parents = _join(_unique(self.say(self.by_id[a.parent].part) for a in cand.anchors))
+        parents = _join([_the(x) for x in _unique(self.say(self.by_id[a.parent].part)
+                                                  for a in cand.anchors)])
         summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
                               for a in cand.anchors])) + "."
         if eyeball:
             specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
                                                          True)) for a in cand.anchors]
-            subs = self.lettered(specs + ([spec("by_eye", dims=dims)] if loose else []))
+            subs = self.lettered(specs + ([spec("by_eye", dims=dims)] if loose else [])
+                                 + list(repeat))
             return [_Draft(part, "primitive", True, (), strokes,
                            _t("headline.eyeball", Part=_cap(name), shape=shape) + note, subs,
                            summary)]
@@ -959,7 +1006,9 @@ class _Context:
         carried: dict[int, list[Pts]] = {}
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
-            unit = units.setdefault((anchor.parent, face.normal, face.end), _Unit(ppart))
+            unit = units.setdefault((anchor.parent, face.normal, face.end,
+                                     _segment_key(con.result.start, con.result.end, self.tol)),
+                                    _Unit(ppart))
             unit.anchors.append(anchor)
             around = self.box_around(ppart)
             if around and ppart not in boxed:  # constructions on a tapered parent start from its box
@@ -979,6 +1028,7 @@ class _Context:
                                        line=Pts((a, b)), step=old[0]))
                 known.append((a, b))
                 unit.results.append((a, b))
+                unit.origin[len(unit.results) - 1] = old[0]
             else:
                 unit.specs += construction_specs(con, self.say(ppart),
                                                  words.face(face.normal, face.end), words.vp,
@@ -993,41 +1043,56 @@ class _Context:
                     runs.append(Pts((a, b)))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [x for x in unit.specs if not _draws_known(x, known, self.tol)]
-        closing: list[Spec] = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
-                               for axis, runs in carried.items()]
+        carries = list(carried.items())
+        if len(carries) == 2:  # two directions: one sentence
+            (a0, r0), (a1, r1) = carries
+            closing: list[Spec] = [spec("carry_two", lines=Many(tuple(r0)), part=name,
+                                        vp=words.vp(a0), lines2=Many(tuple(r1)),
+                                        vp2=words.vp(a1))]
+        else:
+            closing = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
+                       for axis, runs in carries]
         closing += flat
         for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
             if anchor.end == "mid":
-                closing.append(spec("centred", part=name,
+                closing.append(spec("centred", (), ("centred",), part=name,
                                     line=Pts((con.result.start, con.result.end))))
         closing.append(spec("place_by_eye", shape=shape, dims=dims) if loose
                        else spec("place", shape=shape))
-        head = _t("headline.anchored", Part=_cap(name), shape=shape, parents=parents) + note
+        closing += repeat
+        head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
         groups = self.pack(list(units.values()), closing, head, step)
         drafts: list[_Draft] = []
+        said: set = set()  # lines an earlier guides step of this part drew: not drawn again
         for k, group in enumerate(groups[:-1]):
             here = step + k
-            subs = self.lettered([x for u in group for x in u.specs])
+            subs = self.lettered([x for u in group for x in u.specs
+                                  if not (x.same and x.same in said)])
+            said.update(x.same for x in subs if x.same)
             for u in group:
                 if described is not None:
                     described.extend((a, b, here) for a, b in u.results)
                 for x in u.specs:
                     if x.key == "box_around":
                         self._box_steps.setdefault(u.parent, here)
-            gparents = _join(_unique(self.say(u.parent) for u in group))
+            gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             gsummary = _t("substep.guides_for", words=_join(_unique(
                 _ratio_words(words, a, self.say(self.by_id[a.parent].part))
                 for u in group for a in u.anchors)))
             drafts.append(_Draft(part, "guides", False, tuple(ln for u in group for ln in u.lines),
-                                 (), _t("headline.guides", part=name, parents=gparents), subs,
+                                 (), _t("headline.guides", part=name, the_parents=gparents), subs,
                                  gsummary))
         last = groups[-1]
         here = step + len(groups) - 1
         before = [u for g in groups[:-1] for u in g]
-        reuse = ([spec("reuse", line=Many(tuple(Pts(r) for u in before for r in u.results)),
-                       step=_join([str(step + k) for k in range(len(groups) - 1)]))]
-                 if before else [])
-        subs = self.lettered(reuse + [x for u in last for x in u.specs] + closing)
+        cited: dict[int, list[Pts]] = {}  # each line cited with the step that drew it
+        for k, g in enumerate(groups[:-1]):
+            for u in g:
+                for i, r in enumerate(u.results):
+                    cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
+        reuse = [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
+        subs = self.lettered(reuse + [x for u in last for x in u.specs
+                                      if not (x.same and x.same in said)] + closing)
         for u in last:
             if described is not None:
                 described.extend((a, b, here) for a, b in u.results)
@@ -1044,26 +1109,42 @@ class _Context:
              ) -> list[list["_Unit"]]:
         """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
         the last group goes with ``closing`` (the placing sub-steps); one unit alone may
-        exceed the limit (it is not cut)."""
-        def fits(group: list[_Unit], extra: list[Spec], headline: str) -> bool:
-            (subs, _), = letter_steps([self.lettered([x for u in group for x in u.specs]
-                                                     + extra)], self.tol, _substep, _join)
+        exceed the limit (it is not cut).  Lines an earlier group drew are not counted again
+        (they are not said again)."""
+        def words(specs: list[Spec], headline: str) -> int:
+            (subs, _), = letter_steps([self.lettered(specs)], self.tol, _substep, _join)
             text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
                                           for k, x in enumerate(subs)])
-            return len(text.split()) <= MAX_STEP_WORDS
+            return len(text.split())
 
-        if fits(units, closing, head) or not units:
+        def fits(group: list[_Unit], extra: list[Spec], said: set) -> bool:
+            specs = [x for u in group for x in u.specs if not (x.same and x.same in said)]
+            return words(specs + extra, head) <= MAX_STEP_WORDS
+
+        if not units or fits(units, closing, set()):
             return [units]
-        reuse = [spec("reuse", line=Many(tuple(Pts(r) for u in units for r in u.results)),
-                      step=str(step))]
+        cited: dict[int, list[Pts]] = {}  # as the placing step will cite them (worst case)
+        for u in units:
+            for i, r in enumerate(u.results):
+                cited.setdefault(u.origin.get(i, step), []).append(Pts(r))
+        reuse = [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
         # Edges extended and guides reused need no room: they stay with the placing step.
         tail = [u for u in units if not u.room]
         rest = [u for u in units if u.room]
-        while rest and fits([rest[-1]] + tail, reuse + closing, head):
+
+        def said_by(groups: list[list[_Unit]]) -> set:
+            return {x.same for g in groups for u in g for x in u.specs if x.same}
+
+        while rest and fits([rest[-1]] + tail, reuse + closing, said_by([rest[:-1]])):
             tail.insert(0, rest.pop())
+        movable = [u for u in tail if any(x.key != "reuse" for x in u.specs)]
+        while movable and not fits(tail, reuse + closing, said_by([rest])):  # edges: move too
+            u = movable.pop(0)  # (a line only reused stays: moving it would cite it twice)
+            tail.remove(u)
+            rest.append(u)
         groups: list[list[_Unit]] = []
         for u in rest:
-            if groups and fits(groups[-1] + [u], [], head):
+            if groups and fits(groups[-1] + [u], [], said_by(groups[:-1])):
                 groups[-1].append(u)
             else:
                 groups.append([u])
@@ -1193,19 +1274,22 @@ class _Context:
             if len(where.split()) > REPEAT_WHERE_WORDS:  # a copy is placed by eye, not read
                 where = ""
             by_where.setdefault(where, []).append(q)
+        if len(by_where) > 1:  # copies placed differently: one sentence, the picture shows where
+            by_where = {"": sorted(members, key=lambda q: _natural(self.say(q)))}
         out = []
         for where, qs in by_where.items():
             who = _cap(_join([self.say(q) for q in qs]))
             out.append(spec("repeat", parts=who, shape=shape, where=where) if where
-                       else spec("repeat_free", parts=who, shape=shape))
+                       else spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
+                                 shape=shape))
         return out
 
     def merge_group(self, first: _Draft, members: Sequence[str], extra: Sequence[_Draft],
                     sentences: Sequence[Spec]) -> _Draft:
-        """``first`` with the other members' strokes (and guides) and ``sentences`` added."""
+        """``first`` (whose sub-steps end with ``sentences``) with the other members' strokes
+        (and guides), and ``sentences`` in a master's summary too."""
         return replace(first, strokes=first.strokes + tuple(s for d in extra for s in d.strokes),
                        lines=first.lines + tuple(ln for d in extra for ln in d.lines),
-                       specs=first.specs + tuple(sentences),
                        summary=" ".join(x for x in (first.summary, *map(_substep_of, sentences))
                                         if x),
                        group=tuple(members))
@@ -1222,17 +1306,21 @@ class _Context:
             drawn: list[str] = []
             for gi, group in enumerate(groups):
                 p = group[0]
-                made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn)
+                shape = self.words.shape(self.plan.primitive(p).type)
+                repeat = self.same_sentence(group[1:], shape) if len(group) > 1 else []
+                made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
+                                             repeat=repeat)
                 if len(group) > 1:
-                    shape = self.words.shape(self.plan.primitive(p).type)
                     others = [_Draft(q, "primitive", False, (),
                                      _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
                                                self.tol), "") for q in group[1:]]
-                    made[-1] = self.merge_group(made[-1], group, others,
-                                                self.same_sentence(group[1:], shape))
+                    made[-1] = self.merge_group(made[-1], group, others, repeat)
                 drafts += made
                 drawn += group
             order = [q for g in groups for q in g]
+            lead = {q: g[0] for g in groups for q in g}
+            ellipses: list[_Draft] = []
+            small: dict[str, _Draft] = {}  # ellipses sketched by eye: with the outlines
             for group in groups:
                 p = group[0]
                 prim = self.plan.primitive(p)
@@ -1241,16 +1329,16 @@ class _Context:
                 first = self.ellipse_draft(p, boxes[p], False)
                 extra = [self.ellipse_draft(q, boxes[q], False) for q in group[1:]]
                 if extra:  # the same construction on each: said once, drawn on all
-                    names = _cap(_join([self.say(q) for q in group]))
-                    key = "ellipse_many_eyeball" if first.eyeball else "ellipse_many"
-                    first = replace(first, headline=_t(f"headline.{key}", Parts=names),
-                                    strokes=first.strokes + tuple(
+                    first = replace(first, strokes=first.strokes + tuple(
                                         st for d in extra for st in d.strokes),
-                                    lines=first.lines + tuple(ln for d in extra for ln in d.lines),
-                                    group=tuple(group))
-                drafts.append(first)
+                                    lines=first.lines + tuple(ln for d in extra for ln in d.lines))
+                first = replace(first, group=tuple(group))
+                if first.eyeball:
+                    small[p] = first
+                else:
+                    ellipses.append(first)
+            drafts += _paired(ellipses, "ellipse_many", self.say)
             contours = self.contour_drafts(order, self.adjusted)
-            lead = {q: g[0] for g in groups for q in g}
             merged: list[_Draft] = []
             at: dict[str, int] = {}
             for d in contours:  # a group's outlines together, where its first one comes
@@ -1262,10 +1350,15 @@ class _Context:
                 else:  # the step is named after the group's first part, as its other steps
                     at[head] = len(merged)
                     merged.append(replace(d, part=head, group=(d.part,)))
-            for k, d in enumerate(merged):
-                if len(d.group) > 1:
-                    names = _cap(_join([self.say(q) for q in d.group]))
-                    merged[k] = replace(d, headline=_t("headline.contour_many", Parts=names))
+            for head, e in small.items():  # a small ellipse joins its part's outlines
+                if head in at:
+                    k = at[head]
+                    merged[k] = replace(merged[k], strokes=e.strokes + merged[k].strokes,
+                                        specs=(spec("ellipse_by_eye_part",
+                                                    part=self.say(head)),) + merged[k].specs)
+                else:
+                    drafts.append(e)
+            merged = _paired(merged, "contour_many", self.say)
             drafts += merged
             self._guided = tuple(self.letter(drafts))
         return self._guided

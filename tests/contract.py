@@ -24,6 +24,7 @@ marked "documented in ..."), never its code:
 from __future__ import annotations
 
 import math
+import re
 from typing import Any, Iterable, Mapping
 
 import numpy as np
@@ -544,6 +545,18 @@ def check_view(plan: Mapping[str, Any], i: int) -> dict:
             for pt in (g["from_mm"], g["to_mm"]):
                 guide_min_margin = min(guide_min_margin, pt[0], pt[1],
                                        w_mm - pt[0], h_mm - pt[1])
+        # Lettered points (extra key ``labels``): each at the projection of its 3D point, each
+        # letter named in the sub-steps drawn, letters unique within the step.
+        labels = step.get("labels", [])
+        names = [lb["name"] for lb in labels if lb.get("kind", "point") == "point"]
+        assert len(names) == len(set(names)), f"{sw}.labels: a letter twice: {names}"
+        for k, lb in enumerate(labels):
+            _check_projection(P, [lb["at3d"]], [lb["at_mm"]], f"{sw}.labels[{k}:{lb['name']}]",
+                              stats)
+        for x in step.get("substeps", []):
+            for token in re.findall(r"(?<![A-Za-z'])(?:[A-Z]'*)+(?![a-z])", x):
+                for letter in re.findall(r"[A-Z]'*", token):
+                    assert letter in names, f"{sw}.substeps: {letter} is named but not drawn"
         drawn: list[tuple[str, list, list]] = []
         for k, s in enumerate(step.get("strokes", [])):
             drawn.append((f"{sw}.strokes[{k}:{s.get('kind')}].points_mm", s["points3d"],

@@ -331,11 +331,23 @@ def test_vp_inside_a_panel_is_marked():
 
 def test_estimated_time():
     plan = make_plan()
-    # kinds primitive, primitive, ellipse, primitive, contour: 3 + 3 + 3 + 3 + 2 = 14 min;
-    # new guides g_half, g_mid, g_top: 3 x 0.5 = 1.5 -> 15.5 -> rounded up to 20
-    assert L.estimate_minutes(plan) == 20
+    steps = len(plan.steps)
+    guides = sum(g.status == "new" for s in plan.steps for g in s.guides)
+    boxes = len({st.part for s in plan.steps if s.kind == "primitive" for st in s.strokes})
+    ellipses = sum(st.kind == "ellipse" for s in plan.steps for st in s.strokes)
+    outlined = len({st.part for s in plan.steps if s.kind == "contour" for st in s.strokes})
+    want = (0.5 * steps + guides / 6 + boxes + 0.5 * ellipses + outlined)
+    assert (steps, guides) == (5, 3) and boxes >= 1 and outlined >= 1
+    assert L.estimate_minutes(plan) == max(5, 5 * math.ceil(want / 5 - 1e-9))
+    # more to draw takes longer: a copy of the plan with one more guide on a step
+    more = replace(plan, steps=(replace(plan.steps[0], guides=plan.steps[0].guides + tuple(
+        replace(g, id=g.id + "x", status="new") for g in plan.steps[1].guides)),)
+                   + plan.steps[1:])
+    assert sum(g.status == "new" for s in more.steps for g in s.guides) > guides
+    assert L.estimate_minutes(more) >= L.estimate_minutes(plan)
     _, pages = workbook()
-    assert any("about 20 minutes" in t.string for t in texts(pages[0]))
+    m = L.estimate_minutes(plan)
+    assert any(f"about {m} minutes" in t.string for t in texts(pages[0]))
 
 
 def test_basic_level_is_just_steps_without_guides():

@@ -1,0 +1,248 @@
+"""Instructions a person can follow (issue 11): lettered points, headline plus sub-steps,
+readable part names, repeated parts as one step.
+
+Facts are checked against their definitions: a point a sub-step names lies where the
+construction put it (a crossing lies on both lines that make it, a line drawn through a point
+passes through it), every letter a sub-step names is drawn on that step's picture at the
+projection of its 3D point, labels never overlap or leave the picture, and a group step draws
+every member's own box.
+"""
+
+from __future__ import annotations
+
+import itertools
+import re
+
+import numpy as np
+import pytest
+
+from h2s_print import layout as L
+from h2s_print import sequence as seq
+from h2s_print.config import load_tutorial
+from h2s_print.constructions import RATIOS, Face, construct
+from h2s_print.instructions import (ALPHABET, Many, Pts, construction_specs, letter_steps, spec,
+                                    unique_specs)
+from h2s_print.plan import build_plan
+
+from conftest import CONFIGS
+
+EXAMPLES = ("camera", "mixer", "train", "roller")
+BOX = ((0.0, 0.0, 0.0), (40.0, 30.0, 20.0))
+
+
+def _vp(axis: int) -> str:
+    return f"toward VP{axis}"
+
+
+def _render(key, fields):
+    return key + ":" + ",".join(f"{k}={v}" for k, v in sorted(fields.items()))
+
+
+def _on_line(p, a, b, tol=1e-9) -> bool:
+    p, a, b = (np.asarray(x, dtype=float) for x in (p, a, b))
+    d = b - a
+    return float(np.linalg.norm(np.cross(d, p - a))) <= tol * max(1.0, float(np.dot(d, d)))
+
+
+# ----------------------------------------------------------------------------- sub-steps
+
+
+@pytest.mark.parametrize("ratio", [float(r) for r in RATIOS])
+@pytest.mark.parametrize("normal,axis", [(1, 0), (1, 2), (2, 0), (0, 1)])
+def test_substeps_name_every_line_and_their_points_lie_where_the_construction_put_them(
+        ratio, normal, axis):
+    face = Face(BOX, normal, "lo")
+    con = construct(face, axis, ratio)
+    specs = construction_specs(con, "body", "front", _vp, 1e-9)
+    named = [p for s in specs for _, v in s.fields if isinstance(v, Pts) for p in v.points]
+
+    def is_named(p):
+        return any(np.allclose(p, q, atol=1e-9) for q in named)
+
+    # every line the construction draws runs between points the sub-steps name
+    for ln in con.lines:
+        if ln.key == "extend":  # an edge extended beyond its end: its far end is named later
+            assert is_named(ln.start) and is_named(ln.end), (ratio, ln.names)
+        else:
+            assert is_named(ln.start) and is_named(ln.end), (ratio, ln.key, ln.names)
+    for s in specs:
+        f = dict(s.fields)
+        if s.key in ("through", "from", "cross"):  # the line drawn passes through the point
+            (p,), (a, b) = f["point"].points, f["line"].points
+            assert _on_line(p, a, b), (ratio, s)
+        if s.key in ("diagonals", "half_diagonals"):  # the crossing lies on both diagonals
+            (p,) = f["point"].points
+            assert _on_line(p, *f["first"].points) and _on_line(p, *f["second"].points), s
+        if s.key == "connect":
+            (p,) = f["point"].points
+            assert _on_line(p, *f["line"].points) and _on_line(p, *f["other"].points), s
+        if s.key == "connect_through":  # start, through and the new point are collinear
+            (a,), (m,), (p,) = f["start"].points, f["through"].points, f["point"].points
+            assert _on_line(m, a, p), s
+    # the last sub-step draws the resulting guide
+    last = dict(specs[-1].fields)["line"].points
+    res = (con.result.start, con.result.end)
+    assert {tuple(np.round(p, 9)) for p in last} == {tuple(np.round(p, 9)) for p in res}
+
+
+def test_twins_are_said_once_in_the_plural():
+    face = Face(BOX, 1, "lo")
+    quarter, three = (construct(face, 0, r) for r in (0.25, 0.75))
+    specs = unique_specs(construction_specs(quarter, "body", "front", _vp, 1e-9)
+                         + construction_specs(three, "body", "front", _vp, 1e-9),
+                         lambda k: k + "_two" if k == "half_diagonals" else k)
+    keys = [s.key for s in specs]
+    # the diagonals and the half line once, then both halves' diagonals, then both quarter lines
+    assert keys == ["diagonals", "through", "half_diagonals_two", "through"]
+    last = dict(specs[-1].fields)
+    assert isinstance(last["line"], Many) and len(last["line"].items) == 2
+    assert isinstance(last["point"], Many) and len(last["point"].items) == 2
+
+
+# ----------------------------------------------------------------------------- letters
+
+
+def test_a_point_keeps_its_letter_while_it_lives_and_letters_skip_i_and_o():
+    p = [(float(i), 0.0, 0.0) for i in range(30)]
+    steps = [
+        [spec("a", line=Pts((p[0], p[1])))],                         # A B
+        [spec("b", line=Pts((p[2], p[3])))],                         # C D: A, B still live
+        [spec("c", line=Pts((p[0], p[1]))), spec("d", x=Pts((p[4],)))],  # A B again, E new
+        [spec("e", line=Pts((p[5], p[6])))],                         # all earlier points done
+    ]
+    out = letter_steps(steps, 1e-9, _render)
+    assert out[0][0] == ["a:line=AB"]
+    assert out[1][0] == ["b:line=CD"]
+    assert out[2][0] == ["c:line=AB", "d:x=C"]  # C is free again: the point named C is done
+    assert out[3][0] == ["e:line=AB"]
+    assert [n for n, _ in out[2][1]] == ["A", "B", "C"]
+    assert "I" not in ALPHABET and "O" not in ALPHABET
+    many = letter_steps([[spec("f", lines=Many(tuple(Pts((p[i],)) for i in range(26))))]],
+                        1e-9, _render, " ".join)
+    letters = many[0][0][0].split("=")[1].split()
+    assert letters[:3] == ["A", "B", "C"] and letters[24:] == ["A'", "B'"]
+    assert len(set(letters)) == 26
+
+
+def test_points_within_tolerance_share_a_letter():
+    out = letter_steps([[spec("a", line=Pts(((0, 0, 0), (1e-12, 0, 0))))]], 1e-9, _render)
+    assert out[0][0] == ["a:line=AA"]
+
+
+# ----------------------------------------------------------------------------- on the pages
+
+
+@pytest.fixture(scope="module")
+def examples():
+    out = {}
+    for name in EXAMPLES:
+        t = load_tutorial(CONFIGS / f"{name}.yaml")
+        plan = build_plan(t.model, t.solver)
+        out[name] = (t, plan, {(v.name, vp.level): vp for v in t.views
+                               for vp in seq.sequence_views(plan, v, ("novice", "apprentice",
+                                                                      "master"), t.paper,
+                                                            t.sequence)})
+    return out
+
+
+def _letters_in(substeps) -> set[str]:
+    out = set()
+    for x in substeps:
+        for token in re.findall(r"(?<![A-Za-z'])(?:[A-Z]'*)+(?![a-z])", x):
+            out.update(re.findall(r"[A-Z]'*", token))
+    return out
+
+
+def _pictures(page, plan):
+    """(paper rect on the page, mm per sheet mm) for each step picture of a page."""
+    rects = [it for it in page.items if isinstance(it, L.Rect) and it.role == "paper"]
+    return [(r, r.w_mm / plan.paper_mm[0]) for r in rects]
+
+
+@pytest.mark.parametrize("level", ["novice", "apprentice"])
+def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples, level):
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != level:
+                continue
+            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                     if p.kind == "steps"]
+            per = 1 if level == "novice" else 2
+            P = vp.camera.projection_mm
+            for k, step in enumerate(vp.steps):
+                page = pages[k // per]
+                rect, scale = _pictures(page, vp)[k % per]
+                box = (rect.x_mm, rect.y_mm, rect.x_mm + rect.w_mm, rect.y_mm + rect.h_mm)
+                dots = [it for it in page.items if isinstance(it, L.Circle)
+                        and it.role == "label_point"]
+                texts = [it for it in page.items if isinstance(it, L.Text) and it.role == "label"]
+                mine = [(d, tx) for d, tx in zip(dots, texts)
+                        if box[0] <= d.cx_mm <= box[2] and box[1] <= d.cy_mm <= box[3]]
+                drawn = {tx.string: d for d, tx in mine}
+                named = _letters_in(step.substeps)
+                assert named <= set(drawn), (name, view, step.index, named - set(drawn))
+                parts = [it.string for it in page.items if isinstance(it, L.Text)
+                         and it.role == "part_label" and box[0] <= it.x_mm <= box[2]
+                         and box[1] <= it.y_mm <= box[3]]
+                for lb in step.labels:
+                    if lb.kind == "part":  # a part's short name, on the picture, no dot
+                        assert lb.name in parts, (name, step.index, lb.name)
+                        continue
+                    h = P @ np.array([*lb.at3d, 1.0])
+                    want = h[:2] / h[2]  # the point's projection, sheet mm
+                    d = drawn[lb.name]
+                    got = ((d.cx_mm - rect.x_mm) / scale, (d.cy_mm - rect.y_mm) / scale)
+                    assert np.allclose(got, want, atol=0.05), (name, step.index, lb.name)
+                    checked += 1
+                boxes = [tx.box_mm for _, tx in mine]
+                for b in boxes:  # inside the picture
+                    assert box[0] <= b[0] and b[2] <= box[2] and box[1] <= b[1] and b[3] <= box[3]
+                for a, b in itertools.combinations(boxes, 2):  # no two labels overlap
+                    assert not L._boxes_overlap(a, b), (name, step.index)
+                for (d, _), b in itertools.product(mine, boxes):  # nor cover another's dot
+                    inside = b[0] < d.cx_mm < b[2] and b[1] < d.cy_mm < b[3]
+                    assert not inside or any(tx.box_mm == b and dd is d for dd, tx in mine)
+    assert checked > 100
+
+
+def test_a_step_stays_short_and_a_master_reads_headline_and_ratio_words(examples):
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            for s in vp.steps:
+                if level == "master":
+                    assert not s.substeps and s.text.startswith(s.headline)
+                else:
+                    assert s.text.split()[:len(s.headline.split())] == s.headline.split()
+                    n = len(s.text.split())
+                    if n <= seq.MAX_STEP_WORDS:
+                        continue
+                    # over the limit only what cannot be cut: one construction on its own, or a
+                    # part's placing step with nothing left to move out (lines reused, carried,
+                    # centred on, the box itself and its copies)
+                    if s.kind == "guides":
+                        assert not any(x.startswith("Use ") for x in s.substeps), s.substeps
+                    else:
+                        assert all(re.match(r"(Use [A-Z',]|Carry |Centre |Draw its |Keep its |"
+                                            r"[A-Z][a-z]+ \d+|[A-Z][a-z ]+: the same)", x)
+                                   for x in s.substeps), (name, s.index, s.substeps)
+
+
+def test_identical_parts_are_one_step_that_draws_every_instance_box(examples):
+    t, plan, views = examples["train"]
+    chosen = plan.chosen()
+    vp = views[("front-left", "novice")]
+    wheels = [s for s in vp.steps if s.kind == "primitive" and s.part.startswith("wheel")]
+    assert len(wheels) == 1  # eight instances of one mesh, the hidden ones left out
+    step = wheels[0]
+    members = sorted({st.part for st in step.strokes})
+    assert len(members) >= 4 and all(m.startswith("wheel") for m in members)
+    for m in members:  # each instance's scaffold spans exactly its own selected box
+        pts = np.array([p for st in step.strokes if st.part == m for p in st.points3d])
+        box = np.asarray(chosen[m].box, dtype=float)
+        assert np.allclose(pts.min(axis=0), box[0]) and np.allclose(pts.max(axis=0), box[1]), m
+    others = [seq._cap(m.replace("_", " ")) for m in members if m != step.part]
+    assert any(all(o.lower() in x.lower() for o in others) for x in step.substeps), step.substeps
+    # their ellipses and outlines are one step each too
+    assert len([s for s in vp.steps if s.kind == "ellipse" and s.part == step.part]) == 1
+    assert len([s for s in vp.steps if s.kind == "contour" and s.part.startswith("wheel")]) == 1
