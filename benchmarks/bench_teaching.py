@@ -40,6 +40,13 @@ Columns (one row per model; "the selected candidate" of a part is ``plan.chosen(
 * **plan s**: wall-clock seconds of ``build_plan`` (load, fit, relate, candidates, select);
   **select s**: SCIP's own solving time, ``plan.selection.seconds``.
 
+A second table, **instructions** (issue 11): *shapes*, the distinct part shapes (parts grouped
+by :meth:`h2s_print.sequence._Context.congruent` on their selected boxes); *steps* per view
+(novice) against the *limit* 2.5 x shapes + 3; words per step (``text.split()``) of the novice
+plans and of every level built; *id names*, steps whose text contains the raw name of a part
+whose name :func:`h2s_print.names.display_names` does not keep; *minutes* as above.  Its last
+line pools every step of every model.
+
 The totals row pools the ratios (sum of numerators over sum of denominators of all models that
 planned) and sums inv, beyond and start.  A model whose plan or view plans fail gets a row with
 the error instead (an ``H2SError`` by its message; anything else by its type, with the
@@ -218,6 +225,7 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
         "step_limit": 2.5 * len(classes) + 3,
         "id_name_steps": id_steps,
         "renamed": {p: names[p].label for p in raw},
+        "words_novice": words, "words_all": all_words,
         "words_all_median": statistics.median(all_words) if all_words else 0,
         "words_all_max": max(all_words, default=0),
         "parts": len(plan.model.parts),
@@ -283,10 +291,10 @@ def text_row(name: str, r: dict[str, Any]) -> str:
     steps = "/".join(str(v["novice"]) for v in r["steps"].values())
     minutes = [v["novice"] for v in r["minutes"].values()]
     mins = f"{min(minutes)}-{max(minutes)}" if minutes else "-"
-    return (f"{name:<14} {r['shapes']:>6} {steps:>9} {r['step_limit']:>6g} "
-            f"{r['words_median']:g}/{r['words_max']:>13} "
-            f"{r['words_all_median']:g}/{r['words_all_max']:<6} {r['id_name_steps']:>8} "
-            f"{mins:>8}")
+    words = f"{r['words_median']:g}/{r['words_max']}"
+    every = f"{r['words_all_median']:g}/{r['words_all_max']}"
+    return (f"{name:<14} {r['shapes']:>6} {steps:>9} {r['step_limit']:>6g} {words:>13} "
+            f"{every:>10} {r['id_name_steps']:>8} {mins:>8}")
 
 
 def main() -> None:
@@ -338,9 +346,13 @@ def main() -> None:
     ok = [r for r in results.values() if "error" not in r]
     if ok:
         print("-" * len(HEADER_TEXT))
-        print(f"{'all':<14} over limit: {sum(r['steps_max'] > r['step_limit'] for r in ok)} "
-              f"models; median of medians {statistics.median(r['words_median'] for r in ok):g}; "
-              f"max {max(r['words_max'] for r in ok)}; id names "
+        novice = [w for r in ok for w in r["words_novice"]]
+        every = [w for r in ok for w in r["words_all"]]
+        print(f"{'all':<14} models over the step limit: "
+              f"{sum(r['steps_max'] > r['step_limit'] for r in ok)}; words per step, novice: "
+              f"median {statistics.median(novice):g}, max {max(novice)}, over 70: "
+              f"{sum(w > 70 for w in novice)} of {len(novice)}; every level: median "
+              f"{statistics.median(every):g}, max {max(every)}; steps naming an id: "
               f"{sum(r['id_name_steps'] for r in ok)}")
     if args.json:
         args.json.write_text(json.dumps(results, indent=1, sort_keys=True) + "\n")

@@ -36,7 +36,24 @@ def main() -> None:
                 first.setdefault("midplane", page)  # centred on a common bisector plane
             else:
                 first.setdefault("anchored", page)  # ends at ratios and extensions only
+    for page, step in zip(steps, view.steps):
+        if step.kind == "guides":
+            first.setdefault("guides", page)  # lettered construction sub-steps
+    master = next(v for v in result.views if v.name == view.name and v.level == "master")
+    master_pages = lay_out_workbook(tutorial.title, master, tutorial.paper,
+                                    view_label=master.name)
+    train = load_tutorial(ROOT / "configs" / "train.yaml")
+    tres = plan_tutorial(train)
+    tview = tres.views[0]
+    tpages = lay_out_workbook(train.title, tview, train.paper, view_label=tview.name,
+                              final=tres.finals[0])
+    tsteps = [p for p in tpages if p.kind == "steps"]
+    repeat = next(pg for pg, st in zip(tsteps, tview.steps)
+                  if st.kind == "primitive" and len({s.part for s in st.strokes}) > 1)
     wanted = {
+        "page-step-guides": first["guides"],
+        "page-step-master": [p for p in master_pages if p.kind == "steps"][1],
+        "page-step-repeat": repeat,
         "page-cover": next(p for p in pages if p.kind == "cover"),
         "page-primer": next(p for p in pages if p.kind == "primer"),
         "page-step-anchored": first["anchored"],
