@@ -1365,7 +1365,9 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     if quad:
         for piece in clip_polyline(quad, frame, closed=True):
             items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False, "ground"))
-        label = _t("sheet.ground", part=plain_text((part or "?").replace("_", " ")))
+        called = dict((full, label) for label, full in plan.part_names)  # renamed parts
+        name = called.get(part or "", (part or "?").replace("_", " "))
+        label = _t("sheet.ground", the_part=plain_text(templates.the(name)))
         low = min(quad, key=lambda p: (p[1], p[0]))
         high = max(quad, key=lambda p: (p[1], p[0]))
         lft = min(quad, key=lambda p: (p[0], p[1]))

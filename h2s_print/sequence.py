@@ -93,8 +93,9 @@ Decisions where the brief is open (kept here, in one place)
   ancestor (in the anchoring graph) of a part that is not hidden.
 * **Levels.**  ``novice`` sees every line (roles ``construction``, ``guide``, ``vanishing``),
   ``apprentice`` the resulting lines and the alignment lines that carry them (``guide``,
-  ``vanishing``), ``master`` none.  All three have the same steps, in the same order, with the
-  same texts (the text always says what to construct).  ``basic`` is the paper's control
+  ``vanishing``), ``master`` none.  Novice and apprentice have the same steps and texts (the
+  lettered sub-steps say what to construct); a master has the same steps but the guides
+  steps (kind ``guides``), and reads each step's headline and its ratio words.  ``basic`` is the paper's control
   tutorial: the fitted (original) primitives, the start part first (as the guided order; the
   paper's control also starts on the ground plane), then from largest to smallest
   :func:`h2s_print.order.part_size` of the fitted box (ties: name), kind ``basic``, eyeball
@@ -187,11 +188,7 @@ def _t(key: str, **fields: Any) -> str:
     return templates.text("steps", key, **fields)
 
 
-def _the(name: str) -> str:
-    """``name`` with its article (``templates/steps.yaml`` ``article``): "the lens", but
-    "part 3" (a name ending in a number takes none)."""
-    key = "numbered" if re.search(r"\d$", name) else "definite"
-    return templates.text("steps", f"article.{key}", label=name)
+_the = templates.the
 
 
 def _raw(key: str) -> Any:
@@ -929,8 +926,10 @@ class _Context:
 
     def lettered(self, specs: Sequence[Spec]) -> tuple[Spec, ...]:
         """A step's sub-steps, each said once, twins together
-        (:func:`h2s_print.instructions.unique_specs`); lettered later (:meth:`letter`)."""
-        return tuple(unique_specs(specs, _plural))
+        (:func:`h2s_print.instructions.unique_specs`), lines from earlier steps first (so no
+        point is used before a sub-step names it); lettered later (:meth:`letter`)."""
+        ordered = sorted(specs, key=lambda x: x.key not in ("reuse", "box_reuse"))
+        return tuple(unique_specs(ordered, _plural))
 
     def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
         """The drafts with their sub-steps formatted and their points lettered, the whole
@@ -955,7 +954,8 @@ class _Context:
         note = (_raw("headline.cylinder_note")
                 if prim.type == "cylinder" and prim.axis is not None else "")
         if first:
-            subs = self.lettered([spec("first_edges"), spec("first_corners"), *repeat])
+            subs = self.lettered([spec("first_edges"), spec("first_corners"),
+                                  spec("first_footprint"), *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
@@ -1374,8 +1374,8 @@ class _Context:
                 shape = self.words.shape(prim.type)
                 head = _t("headline.first" if i == 0 else "headline.basic",
                           Part=_cap(self.say(p)), shape=shape)
-                subs = ((spec("first_edges"), spec("first_corners")) if i == 0
-                        else (spec("basic_part"),))
+                subs = ((spec("first_edges"), spec("first_corners"), spec("first_footprint"))
+                        if i == 0 else (spec("basic_part"),))
                 drafts.append(_Draft(p, "basic", True, (),
                                      _scaffold(p, prim, prim.box, self.camera, self.tol),
                                      head, subs))
@@ -1425,6 +1425,10 @@ class _Context:
             drafts = self.guided()
             roles = LEVEL_ROLES[level]
             shown = [[(g, r) for g, r in ids if r in roles] for ids in self.guide_ids()]
+            if level == "master":  # a master sees no guides: no guides steps, the ratio words
+                keep = [i for i, d in enumerate(drafts) if d.kind != "guides"]
+                drafts = tuple(drafts[i] for i in keep)
+                shown = [shown[i] for i in keep]
         first: dict[str, int] = {}
         last: dict[str, int] = {}
         for i, gs in enumerate(shown):
@@ -1448,8 +1452,12 @@ class _Context:
             if d.part is not None and d.kind in ("primitive", "basic", "contour"):
                 box = (self.plan.primitive(d.part).box if level == "basic"
                        else self.chosen[d.part].box)
-            named = tuple(self.label(n, p, "part")
-                          for n, p in (self.part_labels(d.part, box) if box is not None else ()))
+            members = list(dict.fromkeys([d.part] + [st.part for st in d.strokes])) \
+                if box is not None else []
+            named = tuple(self.label(n, p, "part") for q in members
+                          for n, p in self.part_labels(q, box if q == d.part else (
+                              self.plan.primitive(q).box if level == "basic"
+                              else self.chosen[q].box)))
             if level == "master":
                 subs: tuple[str, ...] = ()
                 labels: tuple[Label, ...] = named
@@ -1462,7 +1470,8 @@ class _Context:
                                                  for k, x in enumerate(subs)])
             steps.append(Step(i + 1, d.part, d.kind, text, d.eyeball, guides, d.strokes, alive,
                               d.headline, subs, summary, labels))
-        shown = {st.part for st in steps if st.part is not None}
+        shown = {st.part for st in steps if st.part is not None} | {
+            s.part for st in steps for s in st.strokes}
         renamed = tuple((self.names[p].label, p) for p in sorted(shown)
                         if not self.names[p].readable)
         return ViewPlan(name, level, (float(paper.width_mm), float(paper.height_mm)), self.camera,

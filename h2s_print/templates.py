@@ -49,6 +49,13 @@ def lookup(name: str, key: str) -> Any:
     return node
 
 
+def the(label: str) -> str:
+    """A part's name with its article (``templates/steps.yaml`` ``article``): "the lens", but
+    "part 3" (a name ending in a number takes none)."""
+    key = "numbered" if label[-1:].isdigit() else "definite"
+    return text("steps", f"article.{key}", label=label)
+
+
 def text(name: str, key: str, **fields: Any) -> str:
     """Format the template string at ``key`` with ``fields``."""
     template = lookup(name, key)
