@@ -1003,7 +1003,7 @@ class _Context:
         earlier = [] if described is None else described
         boxed: set[str] = set()
         known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
-        carried: dict[int, list[Pts]] = {}
+        carried: dict[tuple[int, ...], list[Pts]] = {}
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -1038,20 +1038,24 @@ class _Context:
             unit.lines += own
             if carry:
                 carry_lines += carry
-                runs = carried.setdefault(_moving_axis(carry[0]), [])
+                runs = carried.setdefault((_moving_axis(carry[0]),), [])
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [x for x in unit.specs if not _draws_known(x, known, self.tol)]
+        def way(path: tuple[int, ...]) -> str:
+            # the first direction only: a carry that turns a corner (toward a vanishing point,
+            # then across) is drawn on the picture; naming both made steps 10 words longer
+            return words.vp(path[0])
+
         carries = list(carried.items())
         if len(carries) == 2:  # two directions: one sentence
             (a0, r0), (a1, r1) = carries
             closing: list[Spec] = [spec("carry_two", lines=Many(tuple(r0)), part=name,
-                                        vp=words.vp(a0), lines2=Many(tuple(r1)),
-                                        vp2=words.vp(a1))]
+                                        vp=way(a0), lines2=Many(tuple(r1)), vp2=way(a1))]
         else:
-            closing = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
-                       for axis, runs in carries]
+            closing = [spec("carry", lines=Many(tuple(runs)), part=name, vp=way(path))
+                       for path, runs in carries]
         closing += flat
         for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
             if anchor.end == "mid":
