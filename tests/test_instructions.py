@@ -246,3 +246,40 @@ def test_identical_parts_are_one_step_that_draws_every_instance_box(examples):
     # their ellipses and outlines are one step each too
     assert len([s for s in vp.steps if s.kind == "ellipse" and s.part == step.part]) == 1
     assert len([s for s in vp.steps if s.kind == "contour" and s.part.startswith("wheel")]) == 1
+
+
+# ----------------------------------------------------------------------------- part names
+
+
+def test_id_named_parts_are_called_by_short_labels_drawn_on_the_picture_and_listed():
+    from test_sequence import PAPER, _tiny_plan
+    from h2s_print.candidates import Anchor
+    from h2s_print.config import SequenceSettings, ViewSpec
+
+    boxes = {"10_base_body": ((-100, 0, 0), (100, 100, 100)),
+             "0_part0": ((-20, -10, 100), (20, 30, 140))}
+    # the part's left side at the quarter line of the base's top face
+    plan = _tiny_plan(boxes, {"0_part0": ("10_base_body", [Anchor(0, "lo", "10_base_body",
+                                                                   0.25, 6, 2, "hi")])})
+    view = ViewSpec("v", azimuth_deg=30.0, elevation_deg=25.0, distance=3.0, lens_mm=50.0,
+                    perspective="two-point")
+    for level in ("novice", "master"):
+        vp = seq.sequence_view(plan, view, level, PAPER, SequenceSettings(eyeball_mm2=0.0))
+        texts = " ".join(s.text for s in vp.steps)
+        assert "0_part0" not in texts and "0 part0" not in texts and "10 base" not in texts
+        assert "Part 1:" in texts and "base body" in texts
+        assert "the part 1" not in texts  # a numbered label takes no article
+        assert dict(vp.part_names) == {"part 1": "0_part0", "base body": "10_base_body"}
+        step = next(s for s in vp.steps if s.kind == "primitive" and s.part == "0_part0")
+        lb, = [lb for lb in step.labels if lb.kind == "part"]
+        assert lb.name == "part 1"  # at the centre of the part's box
+        assert np.allclose(lb.at3d, np.mean(np.asarray(boxes["0_part0"], float), axis=0))
+        pages = L.lay_out_workbook("Oven", vp, PAPER, view_label="v")
+        cover = " ".join(t.string for t in pages[0].items if isinstance(t, L.Text))
+        assert "part 1: 0_part0" in cover and "base body: 10_base_body" in cover
+        page = [p for p in pages if p.kind == "steps"][(step.index - 1)
+                                                      // (1 if level == "novice" else 2)]
+        assert any(isinstance(t, L.Text) and t.role == "part_label" and t.string == "part 1"
+                   for t in page.items)
+        sheet = " ".join(t.string for t in pages[-1].items if isinstance(t, L.Text))
+        assert "ground plane of the base body" in sheet
