@@ -644,8 +644,9 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
     """A dot at each label's point and its letters beside it (roles ``label_point`` and
     ``label``; a part's short name, kind ``part``, in blue without a dot, on the part if there
     is room: role ``part_label``), placed so that no two labels overlap each other or another label's dot, every
-    label stays inside the picture, and as few drawn lines as possible cross a label (fewest
-    crossings, then nearest to its dot, then the preferred direction).
+    label stays inside the picture, each label is nearer its own dot than any other dot when
+    possible, and then as few drawn lines as possible cross it, each ring further from the dot
+    counting as one line crossed (then the preferred direction).
 
     Raises:
         RenderError: no place is free for a label (more labels than the picture can hold).
@@ -679,13 +680,20 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
                     continue
                 if any(_boxes_overlap(box, t) for j, t in enumerate(taken) if j != k):
                     continue
-                score = (_crossings(segs, box), ri, di)
+                # a label must read as its own dot's: nearer to it than to any other dot; then
+                # few lines across it, then near its dot (a line crossed costs a ring)
+                mx, my = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
+                own = math.hypot(mx - dx, my - dy)
+                ambiguous = any(math.hypot(mx - ox, my - oy) < own
+                                for j, (ox, oy) in enumerate(dots)
+                                if j != k and labels[j].kind == "point")
+                score = (ambiguous, _crossings(segs, box) + ri, di)
                 if best is None or score < best[0]:
                     best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
                                         "start", "blue" if part else "black",
                                         "part_label" if part else "label"))
-            if best is not None and best[0][0] == 0:
-                break
+            if best is not None and not best[0][0] and best[0][1] <= ri:
+                break  # nothing further out can score better
         if best is None:
             raise RenderError(f"no room on the picture for the label {lb.name!r}")
         text = best[1]
