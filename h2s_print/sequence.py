@@ -27,8 +27,12 @@ What a tutorial contains, in order
    "in the plane of ..." and no guide is drawn.  A frustum parent's box faces are not drawn
    (its scaffold is the tapered solid), so a construction on it first draws the box around it
    (the box edges its scaffold leaves out, role ``vanishing``, "Draw the box around ...").
-   Each distinct result line gets one sentence; one an earlier step described is referred to
-   ("Use the quarter lines of the body's front face from step 4").
+   The text is a headline and one sub-step per ruler operation
+   (:func:`h2s_print.instructions.construction_specs`), naming lettered points; a result line
+   an earlier step drew is cited with that step ("Use KL and MN from step 2.").  A step over
+   :data:`MAX_STEP_WORDS` words moves its constructions into steps of kind ``guides`` before
+   it (:meth:`_Context.pack`).  Identical parts (:meth:`_Context.congruent`) are one step: the
+   first constructed, the copies "the same box" in its last sub-step.
 2. **Ellipse steps** (kind ``ellipse``) for cylinders, in drawing order: both end faces of the
    selected box (front-facing first), each with its diagonals (role ``construction``), the two
    lines through the centre toward the vanishing points (role ``guide``) and the exact
@@ -116,7 +120,12 @@ Decisions where the brief is open (kept here, in one place)
   the margins with the same camera.  Guides of extrusions can reach beyond those points: then
   the picture is scaled down about the sheet centre (same camera pose) until every guide any
   level could show lies inside the margins too.
-* **Text.**  Every sentence comes from ``templates/steps.yaml``.  Vanishing points are named by
+* **Text.**  Every sentence comes from ``templates/steps.yaml``: a headline, numbered
+  sub-steps (novice, apprentice), or the headline and the ratio words (master); points are
+  lettered over the whole tutorial at once (:func:`h2s_print.instructions.letter_steps`), a
+  point keeping its letter while later steps name it; parts are called by
+  :func:`h2s_print.names.display_names`.  Outlines come two parts a step; an ellipse too small
+  to construct is sketched in its part's outlines step.  Vanishing points are named by
   :func:`h2s_print.project.vp_side` seen from the *sheet's* centre (left/right when the
   horizontal offset dominates, above/below otherwise), "parallel to the ... edges" at infinity:
   the same rule and centre as the calibrated sheet's labels (:func:`h2s_print.layout.vp_names`).
