@@ -16,9 +16,11 @@ What a tutorial contains, in order
    the anchoring allows, nearest first among parts of similar size.  Each
    step's guides are built in 3D from its anchors: the ratio's construction
    (:func:`h2s_print.constructions.construct`) on the
-   parent's *selected* box face named by the anchor; when the anchor leaves the side open
-   (``face_side is None``) the view picks, among the parent's faces parallel to the anchored
-   axis, the front-facing one with the largest projected area.  Alignment lines (role
+   parent's *selected* box face named by the anchor, or its twin across the box when the view
+   shows the named face from behind (issue 12: guides only where they can be drawn); when the
+   anchor leaves the side open (``face_side is None``), or both are seen from behind, the view
+   picks, among the parent's faces parallel to the anchored axis, the front-facing one with
+   the largest projected area.  Alignment lines (role
    ``vanishing``, :func:`h2s_print.constructions.align`) then carry the resulting line across,
    in the plane of the anchored end, to the child's end face: along the line itself when the
    child touches the face's plane, otherwise along the face normal from the result line's end
@@ -560,9 +562,18 @@ def _scaffold(part: str, primitive: Any, box: Box, camera: Camera, tol: float) -
 
 
 def _anchor_face(anchor: Any, pbox: Box, camera: Camera) -> Face:
-    """The parent face an anchor's construction is drawn on (module docstring)."""
+    """The parent face an anchor's construction is drawn on (module docstring).
+
+    A face the view shows from behind is never used: the anchor's named face, else its twin
+    across the box (the same ratio line lies on both), else the view's choice below.
+    """
     if anchor.face_side is not None:
-        return Face(pbox, anchor.face_normal, anchor.face_side)
+        named = Face(pbox, anchor.face_normal, anchor.face_side)
+        if _front_facing(named, camera):
+            return named
+        twin = Face(pbox, anchor.face_normal, "hi" if anchor.face_side == "lo" else "lo")
+        if _front_facing(twin, camera):
+            return twin
     best: tuple[tuple[bool, float], Face] | None = None
     biggest = max(_extent(pbox, a) for a in range(3))
     for n in range(3):

@@ -521,10 +521,10 @@ def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
                     for n in range(3):
                         if n == a.axis or abs(p[n] - q[n]) > tol:
                             continue
+                        # the named face, or its twin across the box when the view shows the
+                        # named one from behind (both carry the same ratio line)
                         sides = {"lo": pbox[0][n], "hi": pbox[1][n]}
-                        allowed = [sides[a.face_side]] if a.face_side else list(sides.values())
-                        if a.face_side and n != a.face_normal:
-                            continue
+                        allowed = list(sides.values())
                         if any(abs(p[n] - c) <= tol for c in allowed):
                             o = 3 - n - a.axis  # spans the parent's face across
                             if abs(min(p[o], q[o]) - pbox[0][o]) <= tol and abs(max(p[o], q[o]) - pbox[1][o]) <= tol:
@@ -532,6 +532,29 @@ def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
                 assert hits, (name, vp.name, step.part, a)
                 checked += 1
     assert checked >= 20  # the examples anchor dozens of interval ends
+
+
+def test_constructions_are_drawn_on_faces_the_view_shows(examples):
+    """No construction on a parent face seen from behind (issue 12): the anchor's named face,
+    its twin across the box, or another face containing the anchored axis."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        by_id = {c.id: c for c in plan.candidates}
+        for view in t.views:
+            cam = seq.view_camera(plan, view, t.paper)
+            eye = np.asarray(cam.position, dtype=float)
+            for part, cand in plan.chosen().items():
+                for a in cand.anchors:
+                    if a.face_normal == a.axis:
+                        continue
+                    face = seq._anchor_face(a, by_id[a.parent].box, cam)
+                    assert a.axis in face.in_axes
+                    # independent test: the camera is on the outer side of the face's plane
+                    outward = 1.0 if face.end == "hi" else -1.0
+                    side = (eye[face.normal] - face.coord) * outward
+                    assert side > 0, (name, view.name, part, a)
+                    checked += 1
+    assert checked > 50
 
 
 def test_levels_show_nested_guides_with_the_same_steps(examples):
