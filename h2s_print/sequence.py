@@ -711,6 +711,13 @@ def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
     return out
 
 
+#: The lines a sub-step draws, by template key (fields holding two points each).
+_DRAWS: dict[str, tuple[str, ...]] = {
+    "diagonals": ("first", "second"), "half_diagonals": ("first", "second"),
+    "through": ("line",), "cross": ("line",), "from": ("line",),
+}
+
+
 def _draws_known(s: Spec, known: Sequence[tuple[Vec3, Vec3]], tol: float) -> bool:
     """Does sub-step ``s`` only draw a line already on the sheet (one of ``known``)?"""
     if s.key not in ("cross", "through", "from", "edge"):
@@ -856,6 +863,7 @@ class _Context:
     _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
     _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
     _box_steps: dict[str, int] = field(default_factory=dict)
+    _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
     names: dict[str, PartName] = field(default_factory=dict)
 
     # -------------------------------------------------------------- order and visibility
@@ -1062,7 +1070,8 @@ class _Context:
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
-            unit.specs = [x for x in unit.specs if not _draws_known(x, known, self.tol)]
+            unit.specs = [self.drawn_before(x, step)
+                          for x in unit.specs if not _draws_known(x, known, self.tol)]
         def way(path: tuple[int, ...]) -> str:
             # the first direction only: a carry that turns a corner (toward a vanishing point,
             # then across) is drawn on the picture; naming both made steps 10 words longer
@@ -1128,6 +1137,21 @@ class _Context:
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
                              summary))
         return drafts
+
+    def drawn_before(self, s: Spec, step: int) -> Spec:
+        """``s``, or "Use ... from step N" when an earlier step drew all its lines (the
+        diagonals of a face another part's step already divided, say)."""
+        if s.key not in _DRAWS or not self._drawn:
+            return s
+        f = dict(s.fields)
+        lines = [f[k].points for k in _DRAWS[s.key] if isinstance(f.get(k), Pts)]
+        steps = []
+        for a, b in lines:
+            at = [n for p, q, n in self._drawn if n < step and _same_segment(a, b, p, q, self.tol)]
+            if not at:
+                return s
+            steps.append(at[0])
+        return spec(f"{s.key}_reuse", s.same, s.pair, step=max(steps), **f)
 
     def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int
              ) -> list[list["_Unit"]]:
@@ -1339,6 +1363,8 @@ class _Context:
                                      _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
                                                self.tol), "") for q in group[1:]]
                     made[-1] = self.merge_group(made[-1], group, others, repeat)
+                for k, d in enumerate(made):  # lines a later step may say "use" of
+                    self._drawn.extend((ln.start, ln.end, len(drafts) + 1 + k) for ln in d.lines)
                 drafts += made
                 drawn += group
             order = [q for g in groups for q in g]

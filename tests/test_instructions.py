@@ -283,3 +283,27 @@ def test_id_named_parts_are_called_by_short_labels_drawn_on_the_picture_and_list
                    for t in page.items)
         sheet = " ".join(t.string for t in pages[-1].items if isinstance(t, L.Text))
         assert "ground plane of the base body" in sheet
+
+
+def test_a_line_used_from_an_earlier_step_has_the_same_letters_there(examples):
+    """"Use KL from step 2": step 2's picture shows K and L at the same points."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for s in vp.steps:
+                here = {lb.name: lb.at3d for lb in s.labels if lb.kind == "point"}
+                for x in s.substeps:
+                    m = re.search(r"from steps? (\d+)", x)
+                    if not m:
+                        continue
+                    n = int(m.group(1))
+                    assert n < s.index
+                    there = {lb.name: lb.at3d for lb in vp.steps[n - 1].labels
+                             if lb.kind == "point"}
+                    for letter in _letters_in([x.split(" from step")[0]]):
+                        assert letter in there, (name, s.index, x, sorted(there))
+                        assert np.allclose(here[letter], there[letter]), (name, s.index, x)
+                        checked += 1
+    assert checked > 20
