@@ -658,6 +658,16 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
 
 
+def _on_face(anchor: Any, pbox: Box, cbox: Box, tol: float) -> bool:
+    """An end aligned with a parent's face (ratio 0 or 1) whose face overlaps that face's
+    rectangle (an area, not an edge): the face already drawn is the guide ("Its back lies on
+    the body's front face"), no line needs carrying."""
+    if anchor.end == "mid" or entry_for(anchor.ratio).name not in ("start", "end"):
+        return False
+    return all(cbox[0][b] < pbox[1][b] - tol and pbox[0][b] < cbox[1][b] - tol
+               for b in range(3) if b != anchor.axis)
+
+
 def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
     """Where one anchor puts the part, in ratio words (a master's text): "its left side at a
     quarter of the body's width"."""
@@ -995,6 +1005,7 @@ class _Context:
                            _t("headline.free", Part=_cap(name), shape=shape) + note, subs)]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
         flat: list[Spec] = []
+        on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
         for anchor in cand.anchors:
             parent = self.by_id[anchor.parent]
@@ -1002,11 +1013,20 @@ class _Context:
                 flat.append(spec("flat", side=words.side(anchor.axis, anchor.end),
                                  parent=self.say(parent.part)))
                 continue
+            if _on_face(anchor, parent.box, cand.box, self.tol):  # the face itself is the guide
+                on_faces.setdefault(parent.part, []).append(
+                    (words.side(anchor.axis, anchor.end),
+                     words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi")))
+                continue
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
                 faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con, own, carry))
+        for ppart, pairs in on_faces.items():  # said once per parent
+            sides, names = zip(*pairs)
+            flat.append(spec("on_face" if len(pairs) == 1 else "on_faces", sides=_join(sides),
+                             parent=self.say(ppart), faces=_join(names)))
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
