@@ -242,7 +242,7 @@ def construction_specs(con: Construction, parent: str, face: str,
         ln = lines[i]
         a, b = ln.names
         if ln.key == "align":
-            out.append(spec("edge", ("edge", _key((at[a], at[b]), tol)), ("edge", face_id),
+            out.append(spec("edge", ("edge", _key((at[a], at[b]), tol)), ("edge",),
                             line=Pts((at[a], at[b])), parent=parent, face=face, vp=vp(t_axis)))
         elif ln.key == "diagonal":
             a2, b2 = lines[i + 1].names
