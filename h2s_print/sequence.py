@@ -1100,12 +1100,15 @@ class _Context:
         carries = list(carried.items())
         if len(carries) == 2:  # two directions: one sentence
             (a0, r0), (a1, r1) = carries
-            closing: list[Spec] = [spec("carry_two", lines=Many(tuple(r0)), part=name,
-                                        vp=way(a0), lines2=Many(tuple(r1)), vp2=way(a1))]
+            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=way(a0),
+                             lines2=Many(tuple(r1)), vp2=way(a1))]
         else:
-            closing = [spec("carry", lines=Many(tuple(runs)), part=name, vp=way(path))
-                       for path, runs in carries]
-        closing += flat
+            carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=way(path))
+                        for path, runs in carries]
+        if carrying:  # carrying lines needs no room: it stays with the part unless too long
+            units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part, carrying,
+                                      carry_lines)
+        closing: list[Spec] = list(flat)
         for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
             if anchor.end == "mid":
                 closing.append(spec("centred", (), ("centred",), part=name,
@@ -1153,7 +1156,7 @@ class _Context:
                 if x.key == "box_around":
                     self._box_steps.setdefault(u.parent, here)
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
-                 + [ln for u in last for ln in u.lines] + carry_lines)
+                 + [ln for u in last for ln in u.lines])
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
                              summary))
         return drafts
