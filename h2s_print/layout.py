@@ -1036,6 +1036,13 @@ def _instruction(x: float, top: float, width: float, step: Step, size: float
     return items, y
 
 
+def _erase_hint(plan: ViewPlan, i: int) -> str:
+    """The step's "you may erase ..." line (empty when nothing retires)."""
+    extra = _erasable(plan, i)
+    return "" if extra == 0 else (_t("step.erase_one") if extra == 1
+                                  else _t("step.erase_many", n=extra))
+
+
 def _steps_per_page(plan: ViewPlan) -> int:
     return 1 if plan.level == "novice" else 2
 
@@ -1085,10 +1092,13 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
                                           else _t("step.erase_many", n=extra))
             texts.append((step, hint))
         sw = slots[0][2] - slots[0][0]
+        # One text height for every step page of the workbook, so the picture keeps one scale
+        # from page to page (a scaffold that grows and shrinks while one copies it misleads).
         text_h = max(
             6.5 + _instruction_height(step, sw, size)
-            + (_paragraph_height(hint, sw, 8.5) + 2.0 if hint else 0.0)
-            for step, hint in texts)
+            + (_paragraph_height(_erase_hint(plan, i), sw, 8.5) + 2.0
+               if _erase_hint(plan, i) else 0.0)
+            for i, step in enumerate(plan.steps))
         for (step, hint), slot, i in zip(texts, slots, idx):
             sx0, sy0, sx1, sy1 = slot
             view = _fit(_window(plan.paper_mm), (sx0, sy0 + text_h + 4.0, sx1, sy1), top=True)

@@ -307,3 +307,17 @@ def test_a_line_used_from_an_earlier_step_has_the_same_letters_there(examples):
                         assert np.allclose(here[letter], there[letter]), (name, s.index, x)
                         checked += 1
     assert checked > 20
+
+
+@pytest.mark.parametrize("level", ["novice", "apprentice", "master"])
+def test_the_picture_keeps_one_scale_on_every_step_page(examples, level):
+    """The scaffold must not grow and shrink from page to page while one copies it (issue 12):
+    every step picture of a workbook is drawn at one scale."""
+    for name, (t, plan, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != level:
+                continue
+            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                     if p.kind == "steps"]
+            widths = {round(r.w_mm, 9) for p in pages for r, _ in _pictures(p, vp)}
+            assert len(widths) == 1, (name, view, sorted(widths))
