@@ -1250,6 +1250,37 @@ def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
     return None
 
 
+def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
+                    vertical: bool) -> list[Text]:
+    """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
+    smallest step that keeps it clear of every text and arrow already placed, inside
+    ``frame``; as it is when no such place is within 60 mm."""
+    placed = [t.box_mm for t in items if isinstance(t, Text)]
+    arrows = _segments([it for it in items if isinstance(it, Polyline) and it.role == "vp_arrow"])
+
+    def clear(texts: list[Text]) -> bool:
+        for t in texts:
+            b = t.box_mm
+            if b[0] < frame[0] or b[2] > frame[2] or b[1] < frame[1] or b[3] > frame[3]:
+                return False
+            if any(b[0] < p[2] + 3.0 and p[0] < b[2] + 3.0 and b[1] < p[3] + 1.0
+                   and p[1] < b[3] + 1.0 for p in placed):  # 3 mm apart along a line, 1 mm across
+                return False
+            if _crossings(arrows, (b[0] - 1.0, b[1] - 0.5, b[2] + 1.0, b[3] + 0.5)):
+                return False
+        return True
+
+    # along the edge first, then also away from it, nearest first (2 mm steps, up to 60 mm)
+    shifts = sorted(((a, c) for a in range(-30, 31) for c in range(-10, 11)),
+                    key=lambda s: (abs(s[0]) + 2 * abs(s[1]), abs(s[1]), s))
+    for a, c in shifts:
+        dx, dy = (2.0 * c, 2.0 * a) if vertical else (2.0 * a, 2.0 * c)
+        moved = [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
+        if clear(moved):
+            return moved
+    return block
+
+
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2) -> bool:
     """True when ``texts`` lie inside ``frame`` and overlap no text already in ``items``."""
     placed = [it.box_mm for it in items if isinstance(it, Text) and it.string]
@@ -1456,9 +1487,10 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             else:
                 anchor, lx = "end", max(min(tip[0], tail[0]) - 3.0, inner[0] + block)
             ly = tip[1] - 4.5 if edge == "top" else tip[1] + 8.5
-        items.append(Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label"))
+        block = [Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label")]
         if detail:
-            items.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
+            block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
+        items += _clear_of_texts(block, items, frame, vertical=edge in ("left", "right"))
     for options in deferred:
         texts, extra = next((o for o in options if _fits(o[0], items, frame)), options[0])
         items += extra

@@ -321,3 +321,21 @@ def test_the_picture_keeps_one_scale_on_every_step_page(examples, level):
                      if p.kind == "steps"]
             widths = {round(r.w_mm, 9) for p in pages for r, _ in _pictures(p, vp)}
             assert len(widths) == 1, (name, view, sorted(widths))
+
+
+def test_drawing_sheet_labels_do_not_overlap(examples):
+    """The calibrated sheet's labels (vanishing points, horizon, footprint) never overlap each
+    other, and a vanishing point's label is not crossed by an arrow (issue 12)."""
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            page = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            texts = [it for it in page.items if isinstance(it, L.Text) and it.string]
+            for a, b in itertools.combinations(texts, 2):
+                assert not L._boxes_overlap(a.box_mm, b.box_mm), (name, view, a.string, b.string)
+            arrows = L._segments([it for it in page.items if isinstance(it, L.Polyline)
+                                  and it.role == "vp_arrow"])
+            for tx in texts:
+                if tx.role in ("vp_label", "vp_detail"):
+                    assert not L._crossings(arrows, tx.box_mm), (name, view, tx.string)
