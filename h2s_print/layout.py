@@ -1047,16 +1047,53 @@ def _steps_per_page(plan: ViewPlan) -> int:
     return 1 if plan.level == "novice" else 2
 
 
+def _legend_keys(plan: ViewPlan) -> list[str]:
+    keys = ["earlier", "earlier_hidden", "ink", "new", "guide_new", "guide_reused",
+            "guide_idle", "vanishing", "corner"]
+    if not any(step.guides for step in plan.steps):  # master and basic: no guide styles to explain
+        keys = [k for k in keys if not k.startswith("guide_")]
+    return keys
+
+
+def _step_geometry(f: _Frame, plan: ViewPlan) -> tuple[list[Box2], list[_View], float]:
+    """Where a workbook's step pages put their pictures: the slots (one per step on a page),
+    the picture in each, and the text height below it.  One text height for every step page
+    of the workbook, so the picture keeps one scale and place from page to page (a scaffold
+    that grows and shrinks while one copies it misleads); the finished drawing uses it too."""
+    per = _steps_per_page(plan)
+    size = 11.0 if per == 1 else 10.0
+    _, top = _header(f, "")
+    _, legend_top = _legend(f, _footer_y(f) + 5.0, _legend_keys(plan))
+    x0, _, x1, _ = f.box
+    bottom = legend_top + 4.0
+    gap = 8.0
+    slots: list[Box2] = []
+    for k in range(per):
+        if f.width > f.height:  # side by side
+            w = (x1 - x0 - gap * (per - 1)) / per
+            slots.append((x0 + k * (w + gap), bottom, x0 + k * (w + gap) + w, top))
+        else:
+            h = (top - bottom - gap * (per - 1)) / per
+            slots.append((x0, top - k * (h + gap) - h, x1, top - k * (h + gap)))
+    sw = slots[0][2] - slots[0][0]
+    text_h = max(
+        6.5 + _instruction_height(step, sw, size)
+        + (_paragraph_height(_erase_hint(plan, i), sw, 8.5) + 2.0
+           if _erase_hint(plan, i) else 0.0)
+        for i, step in enumerate(plan.steps))
+    views = [_fit(_window(plan.paper_mm), (sx0, sy0 + text_h + 4.0, sx1, sy1), top=True)
+             for sx0, sy0, sx1, sy1 in slots]
+    return slots, views, text_h
+
+
 def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[Page]:
     n = len(plan.steps)
     per = _steps_per_page(plan)
     level = _level_name(plan.level)
     size = 11.0 if per == 1 else 10.0
     pages = []
-    legend_keys = ["earlier", "earlier_hidden", "ink", "new", "guide_new", "guide_reused",
-                   "guide_idle", "vanishing", "corner"]
-    if not any(step.guides for step in plan.steps):  # master and basic: no guide styles to explain
-        legend_keys = [k for k in legend_keys if not k.startswith("guide_")]
+    legend_keys = _legend_keys(plan)
+    slots, views, _ = _step_geometry(f, plan)
     margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
     for first in range(0, n, per):
         idx = list(range(first, min(n, first + per)))
@@ -1069,21 +1106,8 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
         items: list[Item] = []
         head, top = _header(f, _t("step.header", title=title, view=view_label, level=level), rng)
         items += head
-        legend, legend_top = _legend(f, _footer_y(f) + 5.0, legend_keys)
+        legend, _ = _legend(f, _footer_y(f) + 5.0, legend_keys)
         items += legend
-        x0, _, x1, _ = f.box
-        bottom = legend_top + 4.0
-        gap = 8.0
-        side_by_side = f.width > f.height
-        slots: list[Box2] = []
-        for k in range(per):
-            if side_by_side:
-                w = (x1 - x0 - gap * (per - 1)) / per
-                slots.append((x0 + k * (w + gap), bottom, x0 + k * (w + gap) + w, top))
-            else:
-                h = (top - bottom - gap * (per - 1)) / per
-                slots.append((x0, top - k * (h + gap) - h, x1, top - k * (h + gap)))
-        # One text height for the page's slots so panels line up.
         texts = []
         for i in idx:
             step = plan.steps[i]
@@ -1092,16 +1116,8 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
                                           else _t("step.erase_many", n=extra))
             texts.append((step, hint))
         sw = slots[0][2] - slots[0][0]
-        # One text height for every step page of the workbook, so the picture keeps one scale
-        # from page to page (a scaffold that grows and shrinks while one copies it misleads).
-        text_h = max(
-            6.5 + _instruction_height(step, sw, size)
-            + (_paragraph_height(_erase_hint(plan, i), sw, 8.5) + 2.0
-               if _erase_hint(plan, i) else 0.0)
-            for i, step in enumerate(plan.steps))
-        for (step, hint), slot, i in zip(texts, slots, idx):
-            sx0, sy0, sx1, sy1 = slot
-            view = _fit(_window(plan.paper_mm), (sx0, sy0 + text_h + 4.0, sx1, sy1), top=True)
+        for (step, hint), slot, view, i in zip(texts, slots, views, idx):
+            sx0 = slot[0]
             items += _step_panel(view, plan, i, margin_sheet)
             ttop = view.rect[1] - 3.0
             items.append(Text(sx0, ttop - 0.72 * 12 * PT_MM, _t("step.number", index=step.index),
@@ -1123,9 +1139,7 @@ def _final_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
                         _t("step.header", title=title, view=view_label, level=_level_name(plan.level)))
     items += head
     x0, _, x1, _ = f.box
-    cap_h = _paragraph_height(_t("final.caption"), x1 - x0, 9.5)
-    bottom = _footer_y(f) + 6.0
-    view = _fit(_window(plan.paper_mm), (x0, bottom + cap_h + 4.0, x1, top))
+    view = _step_geometry(f, plan)[1][0]  # the step pages' picture: same scale and place
     items += _sheet_background(view, plan.paper_mm, f.margin)
     for s in _final_strokes(plan, final):
         items += view.lines(s.points_mm, STYLES["final"], "stroke_final")

@@ -317,10 +317,18 @@ def test_the_picture_keeps_one_scale_on_every_step_page(examples, level):
         for (view, lv), vp in views.items():
             if lv != level:
                 continue
-            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
-                     if p.kind == "steps"]
+            book = L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+            pages = [p for p in book if p.kind == "steps"]
             widths = {round(r.w_mm, 9) for p in pages for r, _ in _pictures(p, vp)}
             assert len(widths) == 1, (name, view, sorted(widths))
+            # and in the same place on every page; the finished drawing too
+            places = {(round(r.x_mm, 9), round(r.y_mm, 9)) for p in pages
+                      for r, _ in _pictures(p, vp)[:1]}
+            assert len(places) == 1, (name, view, places)
+            final, = [p for p in book if p.kind == "final"]
+            (r, _), = _pictures(final, vp)
+            assert {(round(r.x_mm, 9), round(r.y_mm, 9))} == places
+            assert round(r.w_mm, 9) in widths
 
 
 def test_drawing_sheet_labels_do_not_overlap(examples):
