@@ -193,6 +193,18 @@ class OutputSettings:
 
 
 @dataclass(frozen=True, slots=True)
+class SheetSettings:
+    """The calibrated drawing sheet.
+
+    Attributes:
+        grid: print a light perspective grid: lines converging toward each vanishing point
+            across the frame (off-sheet vanishing points then still give a ruler line anywhere).
+    """
+
+    grid: bool = False
+
+
+@dataclass(frozen=True, slots=True)
 class TutorialConfig:
     """One tutorial: a model, its views, levels and paper (DESIGN.md §3b)."""
 
@@ -206,6 +218,7 @@ class TutorialConfig:
     solver: SolverSettings = field(default_factory=SolverSettings)
     sequence: SequenceSettings = field(default_factory=SequenceSettings)
     output: OutputSettings = field(default_factory=OutputSettings)
+    sheet: SheetSettings = field(default_factory=SheetSettings)
 
 
 @dataclass(frozen=True, slots=True)
@@ -380,7 +393,8 @@ def load_tutorial(path: str | Path) -> TutorialConfig:
     return cfg
 
 
-_TUTORIAL_KEYS = ("title", "model", "views", "levels", "paper", "solver", "sequence", "output")
+_TUTORIAL_KEYS = ("title", "model", "views", "levels", "paper", "solver", "sequence", "output",
+                  "sheet")
 
 
 def _tutorial(path: Path, data: Any) -> TutorialConfig:
@@ -415,6 +429,7 @@ def _tutorial(path: Path, data: Any) -> TutorialConfig:
         solver=root.get("solver", _solver, SolverSettings()),
         sequence=root.get("sequence", _sequence, SequenceSettings()),
         output=root.get("output", _output, OutputSettings()),
+        sheet=root.get("sheet", _sheet, SheetSettings()),
     )
 
 
@@ -506,6 +521,11 @@ def _sequence(node: _Node) -> SequenceSettings:
         crease_deg=node.get("crease_deg", lambda n: n.number(0.0, 180.0), 35.0),
         suggestive=node.get("suggestive", lambda n: n.boolean(), False),
     )
+
+
+def _sheet(node: _Node) -> SheetSettings:
+    node.mapping(("grid",))
+    return SheetSettings(grid=node.get("grid", lambda n: n.boolean(), False))
 
 
 def _output(node: _Node) -> OutputSettings:

@@ -1159,6 +1159,7 @@ def _check_paper(paper: PaperSpec) -> float:
 
 
 def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label: str,
+                     grid: bool = False,
                      final: tuple[Stroke, ...] = (), margin_mm: float | None = None
                      ) -> tuple[Page, ...]:
     """Every page of one workbook (one model, view and level), laid out in mm.
@@ -1175,6 +1176,7 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
         view_label: the view's name as shown to the reader.
         final: the finished drawing's strokes (sheet mm); default: every step's strokes.
         margin_mm: margin of the drawing sheet's frame, mm; default ``paper.margin_mm``.
+        grid: a perspective grid on the drawing sheet (:func:`lay_out_sheet`).
 
     Returns:
         The pages in print order, page numbers in the footers, bookmarks attached.
@@ -1196,7 +1198,8 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
         pages.append(_primer_page(f, title, right, primer_diagrams()))
     pages += _step_pages(f, title, plan, view_label)
     pages.append(_final_page(f, title, plan, view_label, final))
-    pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label))
+    pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label,
+                               grid=grid))
     return _with_footers(pages, lambda n, total: _t("footer", title=title, view=view_label,
                                                     level=level, page=n, pages=total))
 
@@ -1264,6 +1267,63 @@ def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
     return None
 
 
+#: Perspective grid (:func:`perspective_grid`): about this far apart where the lines leave the
+#: frame, mm, and drawn like this.
+GRID_SPACING_MM = 12.0
+GRID_STYLE = LineStyle("lightgrey", 0.15)
+
+
+def perspective_grid(plan: ViewPlan, frame: Box2) -> list[Polyline]:
+    """Lines converging toward each vanishing point across ``frame`` (sheet mm), as printed
+    perspective grids have (role ``grid``): from a finite vanishing point, rays at equal angles
+    over the frame's span as seen from it, about :data:`GRID_SPACING_MM` apart where they
+    leave the frame; toward one at infinity, parallels that far apart.  Every line lies on a
+    line through its vanishing point (or along its direction)."""
+    x0, y0, x1, y1 = frame
+    corners = np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], dtype=float)
+    reach = float(np.hypot(x1 - x0, y1 - y0))
+    out: list[Polyline] = []
+
+    def add(p: Pt, q: Pt) -> None:
+        for piece in clip_polyline([p, q], frame):
+            if math.hypot(piece[-1][0] - piece[0][0], piece[-1][1] - piece[0][1]) > 1.0:
+                out.append(Polyline(tuple(piece), GRID_STYLE.colour, GRID_STYLE.width_mm, (),
+                                    False, "grid"))
+
+    for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
+        if vp.at_infinity or vp.xy_mm is None:
+            d = np.asarray(vp.direction_mm, dtype=float)
+            d = d / np.linalg.norm(d)
+            nrm = np.array([-d[1], d[0]])
+            offs = corners @ nrm
+            centre = corners.mean(axis=0)
+            c0 = float(centre @ nrm)
+            k0 = math.ceil((offs.min() - c0) / GRID_SPACING_MM)
+            k1 = math.floor((offs.max() - c0) / GRID_SPACING_MM)
+            for k in range(k0, k1 + 1):
+                p = centre + (k * GRID_SPACING_MM) * nrm
+                add(tuple(p - reach * d), tuple(p + reach * d))
+            continue
+        v = np.asarray(vp.xy_mm, dtype=float)
+        rel = corners - v
+        dist = np.hypot(rel[:, 0], rel[:, 1])
+        far = float(dist.max())
+        inside = x0 < v[0] < x1 and y0 < v[1] < y1
+        if inside:
+            lo, hi = 0.0, 2 * math.pi
+        else:  # the frame's span seen from the VP (under half a turn: the frame is convex)
+            mid = math.atan2(*(corners.mean(axis=0) - v)[::-1])
+            ang = [(math.atan2(r[1], r[0]) - mid + math.pi) % (2 * math.pi) - math.pi
+                   for r in rel]
+            lo, hi = mid + min(ang), mid + max(ang)
+        n = max(8, min(90, int(math.ceil((hi - lo) * far / GRID_SPACING_MM))))
+        for k in range(1, n) if not inside else range(n):
+            t = lo + (hi - lo) * k / n
+            add((float(v[0]), float(v[1])),
+                (float(v[0] + (far + reach) * math.cos(t)), float(v[1] + (far + reach) * math.sin(t))))
+    return out
+
+
 def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                     vertical: bool) -> list[Text]:
     """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
@@ -1321,7 +1381,7 @@ def _corner_offset(v: Pt, frame: Box2) -> str:
 
 
 def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_label: str = "",
-                  ground_mm: Sequence[Pt] | None = None) -> Page:
+                  ground_mm: Sequence[Pt] | None = None, grid: bool = False) -> Page:
     """The calibrated drawing sheet at true scale: 1 sheet mm is 1 page mm.
 
     The page is ``plan.paper_mm``.  It shows the frame (the paper margins) with green corners,
@@ -1336,6 +1396,9 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         margin_mm: the frame's inset from the paper edge, mm.
         view_label: the view's name for the heading (default ``plan.name``).
         ground_mm: four sheet points (mm) of the ground quad, overriding the computed one.
+        grid: also a light perspective grid (config ``sheet.grid``): lines converging toward
+            each vanishing point across the frame (:func:`perspective_grid`), so a ruler line
+            toward a vanishing point far off the sheet can be drawn anywhere.
     """
     w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
     m = float(margin_mm)
@@ -1349,6 +1412,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     items: list[Item] = []
     items.append(Rect(frame[0], frame[1], frame[2] - frame[0], frame[3] - frame[1], "lightgrey",
                       0.2, None, "frame"))
+    if grid:
+        items += perspective_grid(plan, frame)
     items += _green_corners(frame, 15.0)
     band = m / 2  # centre line of the margin band
     # Registration marks: a circle and cross centred in the margin band at each corner.

@@ -283,7 +283,7 @@ def _workbook_pages(result: TutorialResult, index: int):
     # cover, primer, steps, finished drawing and the calibrated sheet
     try:
         return lay_out_workbook(tutorial.title, vp, tutorial.paper, view_label=vp.name,
-                                final=result.finals[index])
+                                final=result.finals[index], grid=tutorial.sheet.grid)
     except H2SError as exc:
         raise in_config(exc, tutorial.path, f"views[{_view_index(tutorial, index)}]") from None
 

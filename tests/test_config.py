@@ -150,3 +150,13 @@ def test_book_resolves_tutorials_and_rejects_itself(tmp_path):
     write(tmp_path, "bad.yaml", GOOD.replace("lens_mm: 50", "lens_mm: fifty"))
     with pytest.raises(ConfigError, match=r"^bad\.yaml: views\[0\]\.lens_mm"):
         load_config(write(tmp_path, "book.yaml", "tutorials: [bad.yaml]\n"))
+
+
+def test_sheet_grid_option(tmp_path):
+    assert load_config(write(tmp_path, "a.yaml", GOOD)).sheet.grid is False
+    cfg = load_config(write(tmp_path, "b.yaml", GOOD + "sheet: {grid: true}\n"))
+    assert cfg.sheet.grid is True
+    with pytest.raises(ConfigError, match=r"^c\.yaml: sheet\.grid: "):
+        load_config(write(tmp_path, "c.yaml", GOOD + "sheet: {grid: often}\n"))
+    with pytest.raises(ConfigError, match=r"^d\.yaml: sheet\.grd: unknown key"):
+        load_config(write(tmp_path, "d.yaml", GOOD + "sheet: {grd: true}\n"))

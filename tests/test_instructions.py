@@ -347,3 +347,30 @@ def test_drawing_sheet_labels_do_not_overlap(examples):
             for tx in texts:
                 if tx.role in ("vp_label", "vp_detail"):
                     assert not L._crossings(arrows, tx.box_mm), (name, view, tx.string)
+
+
+def test_perspective_grid_lines_run_toward_their_vanishing_points(examples):
+    for name, (t, plan, views) in examples.items():
+        vp = views[(t.views[0].name, "novice")]
+        plain = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+        assert not [it for it in plain.items if getattr(it, "role", "") == "grid"]
+        page = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, grid=True)
+        lines = [it for it in page.items if isinstance(it, L.Polyline) and it.role == "grid"]
+        frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
+        for v in vp.vanishing_points:
+            mine = []
+            for ln in lines:
+                (ax, ay), (bx, by) = ln.points_mm[0], ln.points_mm[-1]
+                d = np.array([bx - ax, by - ay]) / np.hypot(bx - ax, by - ay)
+                if v.at_infinity:
+                    u = np.asarray(v.direction_mm, float) / np.linalg.norm(v.direction_mm)
+                    hit = abs(d[0] * u[1] - d[1] * u[0]) < 1e-9
+                else:  # the line, extended, passes through the VP (0.05 mm)
+                    w = np.asarray(v.xy_mm, float) - (ax, ay)
+                    hit = abs(d[0] * w[1] - d[1] * w[0]) < 0.05
+                if hit:
+                    mine.append(ln)
+            assert len(mine) >= 8, (name, v.axis, len(mine))  # each VP has its fan
+        for ln in lines:  # inside the frame
+            for x, y in ln.points_mm:
+                assert frame[0] - 1e-6 <= x <= frame[2] + 1e-6 and frame[1] - 1e-6 <= y <= frame[3] + 1e-6
