@@ -1330,7 +1330,8 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
     smallest step that keeps it clear of every text and arrow already placed, inside
     ``frame``; as it is when no such place is within 60 mm."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
-    arrows = _segments([it for it in items if isinstance(it, Polyline) and it.role == "vp_arrow"])
+    arrows = _segments([it for it in items if isinstance(it, Polyline)
+                        and it.role in _SHEET_LINES])
 
     def clear(texts: list[Text]) -> bool:
         for t in texts:
@@ -1355,14 +1356,23 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
     return block
 
 
+#: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint.
+_SHEET_LINES = ("vp_arrow", "horizon", "ground")
+
+
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2) -> bool:
-    """True when ``texts`` lie inside ``frame`` and overlap no text already in ``items``."""
+    """True when ``texts`` lie inside ``frame``, overlap no text already in ``items`` and
+    cross none of the sheet's lines there (:data:`_SHEET_LINES`)."""
     placed = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+    lines = _segments([it for it in items if isinstance(it, Polyline)
+                       and it.role in _SHEET_LINES])
     for t in texts:
         x0, y0, x1, y1 = t.box_mm
         if x0 < frame[0] or y0 < frame[1] or x1 > frame[2] or y1 > frame[3]:
             return False
         if any(min(x1, b[2]) > max(x0, b[0]) and min(y1, b[3]) > max(y0, b[1]) for b in placed):
+            return False
+        if _crossings(lines, t.box_mm):
             return False
     return True
 

@@ -333,7 +333,7 @@ def test_the_picture_keeps_one_scale_on_every_step_page(examples, level):
 
 def test_drawing_sheet_labels_do_not_overlap(examples):
     """The calibrated sheet's labels (vanishing points, horizon, footprint) never overlap each
-    other, and a vanishing point's label is not crossed by an arrow (issue 12)."""
+    other, and no label is crossed by an arrow, the horizon or the footprint (issue 12)."""
     for name, (t, plan, views) in examples.items():
         for (view, level), vp in views.items():
             if level != "novice":
@@ -342,11 +342,10 @@ def test_drawing_sheet_labels_do_not_overlap(examples):
             texts = [it for it in page.items if isinstance(it, L.Text) and it.string]
             for a, b in itertools.combinations(texts, 2):
                 assert not L._boxes_overlap(a.box_mm, b.box_mm), (name, view, a.string, b.string)
-            arrows = L._segments([it for it in page.items if isinstance(it, L.Polyline)
-                                  and it.role == "vp_arrow"])
+            drawn = L._segments([it for it in page.items if isinstance(it, L.Polyline)
+                                 and it.role in ("vp_arrow", "horizon", "ground")])
             for tx in texts:
-                if tx.role in ("vp_label", "vp_detail"):
-                    assert not L._crossings(arrows, tx.box_mm), (name, view, tx.string)
+                assert not L._crossings(drawn, tx.box_mm), (name, view, tx.string)
 
 
 def test_perspective_grid_lines_run_toward_their_vanishing_points(examples):
