@@ -665,8 +665,38 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
                          {"nearest": nearest})
     log.debug("part %s: %s axis %s score %.5f residual %.5f", part.name, chosen.kind,
               chosen.axis, chosen.score, chosen.residual)
+    detail = dict(chosen.detail)
+    if chosen.kind == "plane" and _round_outline(part, chosen.axis):
+        detail["round"] = True  # a disc, a round plate or top: it carries its ellipse
     return Primitive(part.name, chosen.kind, chosen.axis, chosen.box, float(chosen.residual),
-                     chosen.detail)
+                     detail)
+
+
+#: A plane is round when every corner of its outline's convex hull, scaled to the unit square
+#: of its box, lies within this of the unit circle (a square's corners are at 1.41, an
+#: octagon's edges come to 0.92), with at least :data:`ROUND_MIN_CORNERS` corners.
+ROUND_OUTLINE_TOL = 0.05
+ROUND_MIN_CORNERS = 12
+
+
+def _round_outline(part: Part, axis: int) -> bool:
+    """Is the outline of a flat part, seen along ``axis``, the ellipse inscribed in its box?"""
+    from scipy.spatial import ConvexHull, QhullError
+
+    u, v = _others(axis)
+    lo, hi = (np.asarray(x, dtype=float) for x in part.box)
+    half = 0.5 * (hi - lo)
+    if half[u] <= 0 or half[v] <= 0:
+        return False
+    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
+    q = (used[:, [u, v]] - 0.5 * (lo + hi)[[u, v]]) / half[[u, v]]
+    try:
+        hull = ConvexHull(q)
+    except (QhullError, ValueError):
+        return False
+    r = np.hypot(*q[hull.vertices].T)
+    return len(hull.vertices) >= ROUND_MIN_CORNERS and bool(
+        np.all(np.abs(r - 1.0) <= ROUND_OUTLINE_TOL))
 
 
 def fit_primitives(model: Model, settings: FitSettings = FitSettings()) -> tuple[Primitive, ...]:

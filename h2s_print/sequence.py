@@ -728,6 +728,13 @@ _DRAWS: dict[str, tuple[str, ...]] = {
 }
 
 
+def _round(prim: Any) -> bool:
+    """Does the part get ellipses: a cylinder, or a plane whose outline is round (a disc)?"""
+    if prim.axis is None:
+        return False
+    return prim.type == "cylinder" or (prim.type == "plane" and bool(prim.detail.get("round")))
+
+
 def _draws_known(s: Spec, known: Sequence[tuple[Vec3, Vec3]], tol: float) -> bool:
     """Does sub-step ``s`` only draw a line already on the sheet (one of ``known``)?"""
     if s.key not in ("cross", "through", "from", "edge"):
@@ -989,8 +996,7 @@ class _Context:
         strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
         shape = words.shape(prim.type)
         name = self.say(part)
-        note = (_raw("headline.cylinder_note")
-                if prim.type == "cylinder" and prim.axis is not None else "")
+        note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:
             subs = self.lettered([spec("first_edges"), spec("first_corners"),
                                   spec("first_footprint"), *repeat])
@@ -1253,7 +1259,13 @@ class _Context:
     def ellipse_draft(self, part: str, box: Box, basic: bool) -> _Draft:
         prim = self.plan.primitive(part)
         axis = prim.axis
-        ends = [Face(box, axis, "lo"), Face(box, axis, "hi")]
+        if prim.type == "plane":  # a round plate: its ellipse in the rectangle drawn
+            mid = 0.5 * (box[0][axis] + box[1][axis])
+            lo, hi = list(box[0]), list(box[1])
+            lo[axis] = hi[axis] = mid
+            box = (tuple(lo), tuple(hi))
+        ends = [Face(box, axis, "lo")] if prim.type == "plane" else [
+            Face(box, axis, "lo"), Face(box, axis, "hi")]
         ends.sort(key=lambda f: (not _front_facing(f, self.camera), f.end))
         lines: list[_Line] = []
         strokes: list[Stroke] = []
@@ -1397,7 +1409,7 @@ class _Context:
             for group in groups:
                 p = group[0]
                 prim = self.plan.primitive(p)
-                if prim.type != "cylinder" or prim.axis is None:
+                if not _round(prim):
                     continue
                 first = self.ellipse_draft(p, boxes[p], False)
                 extra = [self.ellipse_draft(q, boxes[q], False) for q in group[1:]]
@@ -1453,8 +1465,7 @@ class _Context:
                                      _scaffold(p, prim, prim.box, self.camera, self.tol),
                                      head, subs))
             drafts += [self.ellipse_draft(p, self.plan.primitive(p).box, True) for p in order
-                       if self.plan.primitive(p).type == "cylinder"
-                       and self.plan.primitive(p).axis is not None]
+                       if _round(self.plan.primitive(p))]
             drafts += self.contour_drafts(order, self.originals)
             self._basic = tuple(self.letter(drafts))
         return self._basic

@@ -120,6 +120,21 @@ def test_thin_disc_is_a_plane_along_its_normal():
     assert prim.box[0][0] == pytest.approx(0.29) and prim.box[1][0] == pytest.approx(0.31)
 
 
+def test_round_plates_carry_their_ellipse_and_square_ones_do_not():
+    disc = trimesh.creation.cylinder(1.0, 0.02, sections=64)
+    assert fit_primitive(_part(*_as_arrays(disc))).detail.get("round") is True
+    oval = disc.copy()
+    oval.apply_scale((2.0, 1.0, 1.0))  # an elliptic tray: round in its box too
+    assert fit_primitive(_part(*_as_arrays(oval))).detail.get("round") is True
+    ring = trimesh.creation.annulus(r_min=0.7, r_max=1.0, height=0.02, sections=64)
+    assert fit_primitive(_part(*_as_arrays(ring))).detail.get("round") is True
+    square = trimesh.creation.box((2.0, 2.0, 0.02))
+    prim = fit_primitive(_part(*_as_arrays(square)))
+    assert prim.type == "plane" and "round" not in prim.detail
+    octagon = trimesh.creation.cylinder(1.0, 0.02, sections=8)  # corners off the circle
+    assert "round" not in fit_primitive(_part(*_as_arrays(octagon))).detail
+
+
 def test_thick_disc_is_a_cylinder():
     # a coin 1/10 as thick as wide is not a thin slab (1/10 > 1/25)
     prim = fit_primitive(_part(*_as_arrays(trimesh.creation.cylinder(1.0, 0.2, sections=64))))

@@ -373,3 +373,41 @@ def test_perspective_grid_lines_run_toward_their_vanishing_points(examples):
         for ln in lines:  # inside the frame
             for x, y in ln.points_mm:
                 assert frame[0] - 1e-6 <= x <= frame[2] + 1e-6 and frame[1] - 1e-6 <= y <= frame[3] + 1e-6
+
+
+def test_a_round_table_top_and_foot_get_their_ellipses(tmp_path):
+    """A round plate (a plane whose outline is its box's inscribed ellipse) gets its ellipse,
+    constructed in the rectangle its scaffold draws (issue 12 point 1)."""
+    import trimesh
+    from _meshfiles import write_glb
+    from h2s_print.config import ModelSpec, SequenceSettings, SolverSettings, ViewSpec
+    from h2s_print.config import PaperSpec
+
+    def mesh(m, dz):
+        v = np.asarray(m.vertices, float) + (0.0, 0.0, dz)
+        return v[:, [0, 2, 1]] * (1, 1, -1), np.asarray(m.faces)  # z-up -> glTF y-up
+
+    top = mesh(trimesh.creation.cylinder(300.0, 12.0, sections=96), 706.0)
+    column = mesh(trimesh.creation.cylinder(30.0, 700.0, sections=48), 350.0)
+    foot = mesh(trimesh.creation.cylinder(150.0, 10.0, sections=96), 5.0)
+    path = write_glb(tmp_path / "table.glb", [("top", *top), ("column", *column), ("foot", *foot)],
+                     [{"name": "top", "mesh": 0}, {"name": "column", "mesh": 1},
+                      {"name": "foot", "mesh": 2}], scene_extras={"units": "mm"})
+    plan = build_plan(ModelSpec(path), SolverSettings())
+    kinds = {p.part: (p.type, p.detail.get("round")) for p in plan.primitives}
+    assert kinds["top"] == ("plane", True) and kinds["foot"] == ("plane", True)
+    view = ViewSpec("v", azimuth_deg=30.0, elevation_deg=25.0, distance=3.0, lens_mm=50.0,
+                    perspective="two-point")
+    vp = seq.sequence_view(plan, view, "novice", PaperSpec("A4", "landscape", 12.0),
+                           SequenceSettings())
+    chosen = plan.chosen()
+    for part in ("top", "foot"):
+        ell = [st for s in vp.steps for st in s.strokes if st.kind == "ellipse" and st.part == part]
+        assert len(ell) == 1, part  # one ellipse, in the plane drawn
+        lo, hi = (np.asarray(x, float) for x in chosen[part].box)
+        pts = np.asarray(ell[0].points3d)
+        assert np.allclose(pts[:, 2], 0.5 * (lo[2] + hi[2]))  # in the mid-plane
+        centre = 0.5 * (lo + hi)
+        r = np.hypot((pts[:, 0] - centre[0]) / (0.5 * (hi[0] - lo[0])),
+                     (pts[:, 1] - centre[1]) / (0.5 * (hi[1] - lo[1])))
+        assert np.allclose(r, 1.0)  # inscribed in the rectangle: touching its edges
