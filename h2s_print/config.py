@@ -57,6 +57,8 @@ class PartsSpec:
         drop: glob patterns of parts to leave out.
         small: policy for tiny or degenerate parts: ``merge``, ``drop`` or ``keep``.
         min_size: a part is tiny when its box diagonal is below this fraction of the model's.
+        split: a part made of several disconnected pieces of one shape (the two wheels of an
+            axle in one mesh) becomes one part per piece (reported); False keeps it whole.
     """
 
     merge: tuple[tuple[str, tuple[str, ...]], ...] = ()
@@ -64,6 +66,7 @@ class PartsSpec:
     drop: tuple[str, ...] = ()
     small: str = "merge"
     min_size: float = 0.01
+    split: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -448,7 +451,7 @@ def _model(node: _Node, base: Path) -> ModelSpec:
 
 
 def _parts(node: _Node) -> PartsSpec:
-    node.mapping(("merge", "rename", "drop", "small", "min_size"))
+    node.mapping(("merge", "rename", "drop", "small", "min_size", "split"))
     merge: tuple[tuple[str, tuple[str, ...]], ...] = ()
     if node.has("merge"):
         m = node.child("merge").mapping(tuple(node.value["merge"] or ()))
@@ -466,6 +469,7 @@ def _parts(node: _Node) -> PartsSpec:
         drop=node.get("drop", lambda n: n.text_list(), ()),
         small=node.get("small", lambda n: n.choice(SMALL_PART_POLICIES), "merge"),
         min_size=node.get("min_size", lambda n: n.number(0.0, 0.5), 0.01),
+        split=node.get("split", lambda n: n.boolean(), True),
     )
 
 

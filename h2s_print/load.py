@@ -38,7 +38,12 @@ parts left by the previous one), then ``rename`` (all at once; a key must match 
 part).  A pattern that matches nothing is a :class:`ConfigError`.  Then the small-part policy:
 parts without area are always dropped; parts whose box diagonal is below ``min_size`` times the
 model's are merged into the nearest remaining part (distance between boxes, ties by name),
-dropped or kept.  Every such action is a line in :attr:`Model.notes`.
+dropped or kept.  Before that, a part made of two or more disconnected pieces of one shape (same
+triangle count, box extents and area within :data:`PIECE_TOL`: the two wheels of an axle in
+one mesh) becomes one part per piece, ``<name>_1``, ``<name>_2`` ... ordered by their box
+centres (x, then y, then z); ``model.parts.split: false`` keeps such parts whole.  Pieces are
+connected through shared vertex positions (exactly equal coordinates), so a mesh with seams
+stays one piece.  Every such action is a line in :attr:`Model.notes`.
 
 Meshes are cleaned only of unreferenced vertices (faces are kept as read, no trimesh
 processing), vertices float64, faces int64; mirroring transforms flip face winding back.
@@ -117,6 +122,8 @@ def load_model(spec: ModelSpec) -> Model:
     units = spec.units or raw.units
     parts = _finite(raw.parts, raw.where)
     parts = _regroup(parts, spec.parts, cfg, notes)
+    if spec.parts.split:
+        parts = _split_pieces(parts, notes)
     parts = _small_parts(parts, spec.parts, raw.where, notes)
     for line in notes:
         log.info("%s: %s", raw.where, line)
@@ -595,6 +602,67 @@ def _regroup(parts: list[Part], spec: PartsSpec, cfg: str, notes: list[str]) -> 
         for old in sorted(mapping):
             notes.append(f"renamed {old} to {mapping[old]}")
     return parts
+
+
+#: Pieces of one part are "of one shape" when their box extents and areas agree within this
+#: fraction (and their triangle counts are equal).
+PIECE_TOL = 0.02
+
+
+def _pieces(part: Part) -> list[np.ndarray]:
+    """The face index arrays of a part's connected pieces (faces sharing a vertex position)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    v = np.asarray(part.vertices, dtype=float)
+    f = np.asarray(part.faces, dtype=np.int64)
+    _, weld = np.unique(v, axis=0, return_inverse=True)
+    w = weld.reshape(-1)[f]
+    n = int(w.max()) + 1
+    rows = np.concatenate([w[:, 0], w[:, 1]])
+    cols = np.concatenate([w[:, 1], w[:, 2]])
+    graph = coo_matrix((np.ones(len(rows), dtype=np.int8), (rows, cols)), shape=(n, n))
+    _, labels = connected_components(graph, directed=False)
+    face_label = labels[w[:, 0]]
+    return [np.flatnonzero(face_label == k) for k in np.unique(face_label)]
+
+
+def _split_pieces(parts: list[Part], notes: list[str]) -> list[Part]:
+    """Split each part made of several disconnected pieces of one shape (module docstring)."""
+    out: list[Part] = []
+    names = {p.name for p in parts}
+    for part in parts:
+        pieces = _pieces(part) if len(part.faces) >= 2 else []
+        if len(pieces) < 2 or len({len(x) for x in pieces}) != 1:
+            out.append(part)
+            continue
+        subs = []
+        for faces in pieces:
+            used = np.unique(part.faces[faces])
+            remap = np.full(len(part.vertices), -1, dtype=np.int64)
+            remap[used] = np.arange(len(used))
+            subs.append(Part("", readonly(part.vertices[used], np.float64),
+                             readonly(remap[part.faces[faces]], np.int64), part.sources))
+        ext = np.array([np.subtract(*s.box[::-1]) for s in subs])
+        area = np.array([_area(s) for s in subs])
+        scale = max(float(ext.max()), 1e-300)
+        if (float(np.ptp(ext, axis=0).max()) > PIECE_TOL * scale or area.min() <= 0
+                or float(np.ptp(area)) > PIECE_TOL * float(area.max())):
+            out.append(part)
+            continue
+        subs.sort(key=lambda s: tuple(np.add(*s.box) / 2))
+        new = []
+        for k, s in enumerate(subs, start=1):
+            name = f"{part.name}_{k}"
+            while name in names:  # never take another part's name
+                name += "_"
+            names.add(name)
+            new.append(Part(name, s.vertices, s.faces, s.sources))
+        out += new
+        notes.append(f"split {part.name} into {len(new)} pieces of one shape: "
+                     f"{_listing([p.name for p in new])} (model.parts.split: false keeps it "
+                     "whole)")
+    return out
 
 
 def _area(part: Part) -> float:

@@ -160,3 +160,13 @@ def test_sheet_grid_option(tmp_path):
         load_config(write(tmp_path, "c.yaml", GOOD + "sheet: {grid: often}\n"))
     with pytest.raises(ConfigError, match=r"^d\.yaml: sheet\.grd: unknown key"):
         load_config(write(tmp_path, "d.yaml", GOOD + "sheet: {grd: true}\n"))
+
+
+def test_parts_split_option(tmp_path):
+    assert load_config(write(tmp_path, "a.yaml", GOOD)).model.parts.split is True
+    text = GOOD.replace("    drop: [screw_*]", "    drop: [screw_*]\n    split: false", 1)
+    assert text != GOOD
+    assert load_config(write(tmp_path, "b.yaml", text)).model.parts.split is False
+    bad = GOOD.replace("    drop: [screw_*]", "    drop: [screw_*]\n    split: sometimes", 1)
+    with pytest.raises(ConfigError, match=r"^c\.yaml: model\.parts\.split: "):
+        load_config(write(tmp_path, "c.yaml", bad))

@@ -85,7 +85,7 @@ def test_glb_primitives_of_a_node_are_one_part(tmp_path):
     two = ("m", [CUBE_V, CUBE_V + 3], [CUBE_F, CUBE_F])
     path = write_glb(tmp_path / "prims.glb", [two], [
         {"name": "world", "mesh": 0}, {"name": "x", "mesh": 0, "translation": [10, 0, 0]}])
-    model = read_path(path, up="z")
+    model = _load(path, up="z", split=False)  # (by default its two like cubes are split)
     assert [p.name for p in model.parts] == ["world", "x"]
     assert len(model.part("x").faces) == 24                       # 2 primitives x 12
     assert _box(model.part("x")) == [[10, 0, 0], [14, 4, 4]]      # [0, 4]^3 + (10, 0, 0)
@@ -165,7 +165,7 @@ def test_obj_groups_are_parts_and_loose_faces_take_the_stem(tmp_path):
                        box((4, 0, 0), (5, 1, 1)), box((6, 0, 0), (7, 1, 1)))
     path = tmp_path / "shelf.obj"
     path.write_text(obj_text([(None, *loose), ("g left", *a), ("g right", *b), ("g left", *a2)]))
-    model = read_path(path)
+    model = _load(path, split=False)  # (by default the two like boxes of 'left' are split)
     assert [p.name for p in model.parts] == ["left", "right", "shelf"]
     # group 'left' appears twice in the file: one part of 2 x 12 faces, x from 2 to 7
     assert len(model.part("left").faces) == 24
@@ -473,7 +473,7 @@ def test_bad_up_and_units_values(instanced_glb):
 SHARED = [  # (path under shared/models, up, parts, units) from its README table
     ("ikea_chair_ingolf/chair_ingolf_0650.glb", "z", 5, "m"),
     ("ikea_table_lack/table_lack_0825.glb", "z", 5, "m"),
-    ("ikea_desk_fredrik/desk_fredrik_0430.glb", "z", 6, "m"),
+    ("ikea_desk_fredrik/desk_fredrik_0430.glb", "z", 7, "m"),  # part4: two like pieces, split
     ("ikea_box_ivar/box_ivar_0666.glb", "z", 5, "m"),
     ("partnet_mobility_oven_101773", None, 10, "m"),
     ("partnet_mobility_oven_101773/parts_leaf.glb", None, 10, "m"),
@@ -506,3 +506,43 @@ def test_pins_dowels_are_instances(shared_models):
     assert {len(p.faces) for p in dowels} == {314}  # one mesh, six placements
     assert len({p.box for p in dowels}) == 6
     assert dowels[0].sources[0].startswith("pins.glb:dowel#1:")
+
+
+# ----------------------------------------------------------------------------- split pieces
+
+
+def _axle(tmp_path: Path, second=((3.0, 0.0, 0.0), (4.0, 1.0, 1.0)), name="axle") -> Path:
+    """One mesh holding two pieces: a unit cube and the box ``second``, plus a separate body."""
+    a = box((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    b = box(*second)
+    v = np.vstack([a[0], b[0]])
+    f = np.vstack([a[1], b[1] + len(a[0])])
+    body = box((-2.0, -2.0, 2.0), (6.0, 3.0, 4.0))
+    return write_glb(
+        tmp_path / f"{name}.glb", [("wheels", v, f), ("body", *body)],
+        [{"name": "wheels", "mesh": 0}, {"name": "body", "mesh": 1}])
+
+
+def test_a_part_of_like_pieces_is_split_and_said(tmp_path):
+    model = _load(_axle(tmp_path), up="z", units="mm")
+    names = [p.name for p in model.parts]
+    assert names == ["body", "wheels_1", "wheels_2"]
+    one, two = (model.part(n) for n in ("wheels_1", "wheels_2"))
+    assert _box(one) == [[0, 0, 0], [1, 1, 1]] and _box(two) == [[3, 0, 0], [4, 1, 1]]
+    assert len(one.faces) == len(two.faces) == 12
+    assert any(n.startswith("split wheels into 2 pieces") for n in model.notes)
+
+
+def test_unlike_pieces_and_split_false_stay_whole(tmp_path):
+    unlike = _load(_axle(tmp_path, ((3.0, 0.0, 0.0), (5.0, 1.0, 1.0)), "unlike"),
+                   up="z", units="mm")
+    assert [p.name for p in unlike.parts] == ["body", "wheels"]
+    whole = _load(_axle(tmp_path), up="z", units="mm", split=False)
+    assert [p.name for p in whole.parts] == ["body", "wheels"]
+    assert not any("split" in n for n in whole.notes)
+
+
+def test_split_never_takes_another_parts_name(tmp_path):
+    model = _load(_axle(tmp_path), up="z", units="mm", rename=(("body", "wheels_1"),))
+    names = sorted(p.name for p in model.parts)
+    assert names == ["wheels_1", "wheels_1_", "wheels_2"]
