@@ -213,7 +213,8 @@ def _vec(p: np.ndarray) -> Vec3:
     return (float(p[0]), float(p[1]), float(p[2]))
 
 
-def _key(points: Sequence[Vec3], tol: float) -> frozenset:
+def points_key(points: Sequence[Vec3], tol: float) -> frozenset:
+    """The same points, in any order, within ``tol`` (a dictionary key)."""
     return frozenset(tuple(int(round(c / tol)) for c in p) for p in points)
 
 
@@ -231,7 +232,7 @@ def construction_specs(con: Construction, parent: str, face: str,
         tol: two points within this distance are one (for merging equal sub-steps).
     """
     at = dict(con.points)
-    face_id = (_key(con.face.corners, tol), con.axis)
+    face_id = (points_key(con.face.corners, tol), con.axis)
     s_axis = con.axis
     t_axis = con.result.axis if con.result.axis is not None else s_axis
     out: list[Spec] = []
@@ -242,14 +243,14 @@ def construction_specs(con: Construction, parent: str, face: str,
         ln = lines[i]
         a, b = ln.names
         if ln.key == "align":
-            out.append(spec("edge", ("edge", _key((at[a], at[b]), tol)), ("edge",),
+            out.append(spec("edge", ("edge", points_key((at[a], at[b]), tol)), ("edge",),
                             line=Pts((at[a], at[b])), parent=parent, face=face, vp=vp(t_axis)))
         elif ln.key == "diagonal":
             a2, b2 = lines[i + 1].names
             i += 1
             if {a, b} == {"A", "C"}:
                 corners = Pts(tuple(at[n] for n in "ABCD"))
-                out.append(spec("diagonals", ("diagonals", _key(corners.points, tol)),
+                out.append(spec("diagonals", ("diagonals", points_key(corners.points, tol)),
                                 corners=corners, first=Pts((at["A"], at["C"])),
                                 second=Pts((at["B"], at["D"])), point=Pts((at["O"],)),
                                 parent=parent, face=face))
@@ -258,37 +259,37 @@ def construction_specs(con: Construction, parent: str, face: str,
                 left = "A" in (a, b)
                 half = _half_corners(a, b, a2, b2, left)
                 last = "Q1" if left else "Q3"
-                out.append(spec("half_diagonals", ("diagonals", _key([at[n] for n in half], tol)),
+                out.append(spec("half_diagonals", ("diagonals", points_key([at[n] for n in half], tol)),
                                 ("half", face_id), half=Pts(tuple(at[n] for n in half)),
                                 first=Pts((at[a], at[b])), second=Pts((at[a2], at[b2])),
                                 point=Pts((at[last],))))
         elif ln.key == "cross":
-            out.append(spec("cross", ("line", _key((at[a], at[b]), tol)), point=Pts((at["O"],)),
+            out.append(spec("cross", ("line", points_key((at[a], at[b]), tol)), point=Pts((at["O"],)),
                             line=Pts((at[a], at[b])), vp=vp(s_axis)))
         elif ln.key == "connect":
             if not b.startswith("S"):  # thirds: C-E meets B-D at I1 (D-F meets A-C at I2)
                 crossing = "I1" if "C" in (a, b) else "I2"
                 diagonal = ("B", "D") if crossing == "I1" else ("A", "C")
-                out.append(spec("connect", ("line", _key((at[a], at[b]), tol)), ("third", face_id),
+                out.append(spec("connect", ("line", points_key((at[a], at[b]), tol)), ("third", face_id),
                                 line=Pts((at[a], at[b])), other=Pts(tuple(at[n] for n in diagonal)),
                                 point=Pts((at[crossing],))))
                 last = crossing
             else:  # extension: origin -> midpoint of the shared edge -> the new point
                 mid = "F" if _s(at, con, b) > 1 else "E"
-                out.append(spec("connect_through", ("line", _key((at[a], at[b]), tol)),
+                out.append(spec("connect_through", ("line", points_key((at[a], at[b]), tol)),
                                 start=Pts((at[a],)), through=Pts((at[mid],)),
                                 point=Pts((at[b],))))
                 last = b
         elif ln.key == "extend":
             beyond = "B" if a == "A" else "A"
-            out.append(spec("extend", ("line", _key((at[a], at[b]), tol)),
+            out.append(spec("extend", ("line", points_key((at[a], at[b]), tol)),
                             edge=Pts((at[a], at[beyond])), end=Pts((at[beyond],)),
                             vp=vp(s_axis)))
         elif ln.key == "division":
             through = last if last is not None else a
             key = "from" if through in (a, b) else "through"
             twin = ("result", face_id) if ln.role == "guide" and through in ("Q1", "Q3", "I1", "I2") else ()
-            out.append(spec(key, ("line", _key((at[a], at[b]), tol)), twin,
+            out.append(spec(key, ("line", points_key((at[a], at[b]), tol)), twin,
                             point=Pts((at[through],)), line=Pts((at[a], at[b])),
                             vp=vp(t_axis)))
         i += 1

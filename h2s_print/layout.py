@@ -667,11 +667,9 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
         cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
         best: tuple[tuple, Text] | None = None
         for ri, r in enumerate(((0.0,) if part else ()) + LABEL_RADII_MM):
-            for di, (ux, uy) in enumerate(_LABEL_DIRS):
-                norm = math.hypot(ux, uy)
+            for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
+                norm = math.hypot(ux, uy) or 1.0
                 cx, cy = dx + r * ux / norm, dy + r * uy / norm
-                if r == 0.0:
-                    ux, uy = 0, 0
                 # the label's box touches (cx, cy) on the side facing the dot
                 bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
                 by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
@@ -1076,11 +1074,11 @@ def _step_geometry(f: _Frame, plan: ViewPlan) -> tuple[list[Box2], list[_View], 
             h = (top - bottom - gap * (per - 1)) / per
             slots.append((x0, top - k * (h + gap) - h, x1, top - k * (h + gap)))
     sw = slots[0][2] - slots[0][0]
+    hints = [_erase_hint(plan, i) for i in range(len(plan.steps))]
     text_h = max(
         6.5 + _instruction_height(step, sw, size)
-        + (_paragraph_height(_erase_hint(plan, i), sw, 8.5) + 2.0
-           if _erase_hint(plan, i) else 0.0)
-        for i, step in enumerate(plan.steps))
+        + (_paragraph_height(hint, sw, 8.5) + 2.0 if hint else 0.0)
+        for step, hint in zip(plan.steps, hints))
     views = [_fit(_window(plan.paper_mm), (sx0, sy0 + text_h + 4.0, sx1, sy1), top=True)
              for sx0, sy0, sx1, sy1 in slots]
     return slots, views, text_h
@@ -1110,11 +1108,7 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
         items += legend
         texts = []
         for i in idx:
-            step = plan.steps[i]
-            extra = _erasable(plan, i)
-            hint = "" if extra == 0 else (_t("step.erase_one") if extra == 1
-                                          else _t("step.erase_many", n=extra))
-            texts.append((step, hint))
+            texts.append((plan.steps[i], _erase_hint(plan, i)))
         sw = slots[0][2] - slots[0][0]
         for (step, hint), slot, view, i in zip(texts, slots, views, idx):
             sx0 = slot[0]

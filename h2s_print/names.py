@@ -146,7 +146,7 @@ def base_words(name: str) -> str | None:
     return " ".join(words)
 
 
-def _natural(name: str) -> tuple:
+def natural_key(name: str) -> tuple:
     """Sort key reading digit runs as numbers (``2_knob`` before ``10_base``)."""
     return tuple((0, int(t), "") if t.isdigit() else (1, 0, t.casefold())
                  for t in re.split(r"(\d+)", name) if t)
@@ -191,7 +191,7 @@ def display_names(parts: Sequence[str], *, label_format: str = "part {n}") -> di
         if p not in kept and (base := base_words(p)) is not None:
             groups.setdefault(_key(base), []).append(p)
     for key in sorted(groups):
-        members = sorted(groups[key], key=_natural)
+        members = sorted(groups[key], key=natural_key)
         base = base_words(members[0]) or key
         labels = ([base] if len(members) == 1
                   else [f"{base} {k}" for k in range(1, len(members) + 1)])

@@ -142,7 +142,6 @@ Every ``*_mm`` coordinate is ``camera.project`` of its 3D point.
 from __future__ import annotations
 
 import logging
-import re
 from dataclasses import dataclass, field, replace
 from typing import Any, Iterable, Sequence
 
@@ -153,8 +152,9 @@ from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
 from .contours import adjust_part, final_contours, trace_contours, visible_points
 from .errors import SelectionError
-from .names import PartName, display_names
-from .instructions import Many, Pts, Spec, construction_specs, letter_steps, spec, unique_specs
+from .names import PartName, display_names, natural_key
+from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, points_key, spec,
+                           unique_specs)
 from .order import drawing_order, part_size, start_part
 from .project import make_camera, vanishing_points, vp_side
 from .ratios import entry_for
@@ -687,11 +687,6 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
 
 
-def _segment_key(a: Vec3, b: Vec3, tol: float) -> frozenset:
-    """The same segment, whichever way round, within ``tol`` (a dictionary key)."""
-    return frozenset(tuple(int(round(c / tol)) for c in p) for p in (a, b))
-
-
 def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
     """Consecutive drafts two to a step (the outlines, the ellipses of several parts): a
     drawing teacher does not give each small part a page of its own.  Ellipse drafts pair only
@@ -758,12 +753,6 @@ def _substep_of(s: Spec) -> str:
 def _plural(key: str) -> str:
     """The template key of a sub-step said for two twins at once (``edge`` -> ``edge_two``)."""
     return f"{key}_two" if isinstance(_raw("substep").get(f"{key}_two"), str) else key
-
-
-def _natural(text: str) -> tuple:
-    """Sort key reading digit runs as numbers ("wheel 2" before "wheel 10")."""
-    return tuple((0, int(t), "") if t.isdigit() else (1, 0, t)
-                 for t in re.split(r"(\d+)", text) if t)
 
 
 def _mesh_area(part: Part) -> float:
@@ -1057,11 +1046,11 @@ class _Context:
         earlier = [] if described is None else described
         boxed: set[str] = set()
         known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
-        carried: dict[tuple[int, ...], list[Pts]] = {}
+        carried: dict[int, list[Pts]] = {}  # result lines carried, by the carry's first axis
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
-                                     _segment_key(con.result.start, con.result.end, self.tol)),
+                                     points_key((con.result.start, con.result.end), self.tol)),
                                     _Unit(ppart))
             unit.anchors.append(anchor)
             around = self.box_around(ppart)
@@ -1092,25 +1081,23 @@ class _Context:
             unit.lines += own
             if carry:
                 carry_lines += carry
-                runs = carried.setdefault((_moving_axis(carry[0]),), [])
+                runs = carried.setdefault(_moving_axis(carry[0]), [])
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [self.drawn_before(x, step)
                           for x in unit.specs if not _draws_known(x, known, self.tol)]
-        def way(path: tuple[int, ...]) -> str:
-            # the first direction only: a carry that turns a corner (toward a vanishing point,
-            # then across) is drawn on the picture; naming both made steps 10 words longer
-            return words.vp(path[0])
-
+        # A carry is said by its first direction only: one that turns a corner (toward a
+        # vanishing point, then across) is drawn on the picture; naming both made steps 10
+        # words longer.
         carries = list(carried.items())
         if len(carries) == 2:  # two directions: one sentence
             (a0, r0), (a1, r1) = carries
-            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=way(a0),
-                             lines2=Many(tuple(r1)), vp2=way(a1))]
+            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=words.vp(a0),
+                             lines2=Many(tuple(r1)), vp2=words.vp(a1))]
         else:
-            carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=way(path))
-                        for path, runs in carries]
+            carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
+                        for axis, runs in carries]
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part, carrying,
                                       carry_lines)
@@ -1131,12 +1118,7 @@ class _Context:
             subs = self.lettered([x for u in group for x in u.specs
                                   if not (x.same and x.same in said)])
             said.update(x.same for x in subs if x.same)
-            for u in group:
-                if described is not None:
-                    described.extend((a, b, here) for a, b in u.results)
-                for x in u.specs:
-                    if x.key == "box_around":
-                        self._box_steps.setdefault(u.parent, here)
+            self.record(group, here, described)
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             gsummary = _t("substep.guides_for", words=_join(_unique(
                 _ratio_words(words, a, self.say(self.by_id[a.parent].part))
@@ -1155,17 +1137,23 @@ class _Context:
         reuse = [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
         subs = self.lettered(reuse + [x for u in last for x in u.specs
                                       if not (x.same and x.same in said)] + closing)
-        for u in last:
-            if described is not None:
-                described.extend((a, b, here) for a, b in u.results)
-            for x in u.specs:
-                if x.key == "box_around":
-                    self._box_steps.setdefault(u.parent, here)
+        self.record(last, here, described)
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
                  + [ln for u in last for ln in u.lines])
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
                              summary))
         return drafts
+
+    def record(self, units: Sequence["_Unit"], step: int,
+               described: list[tuple[Vec3, Vec3, int]] | None) -> None:
+        """Note that step ``step`` drew these units: their result lines (for later steps to
+        cite) and the box around a tapered parent (for later steps to reuse)."""
+        for u in units:
+            if described is not None:
+                described.extend((a, b, step) for a, b in u.results)
+            for x in u.specs:
+                if x.key == "box_around":
+                    self._box_steps.setdefault(u.parent, step)
 
     def drawn_before(self, s: Spec, step: int) -> Spec:
         """``s``, or "Use ... from step N" when an earlier step drew all its lines (the
@@ -1350,7 +1338,7 @@ class _Context:
         """"Knob 2 and knob 3: the same box, its back in line with the body's front." for the
         group's other members, those placed alike said together."""
         by_where: dict[str, list[str]] = {}
-        for q in sorted(members, key=lambda q: _natural(self.say(q))):
+        for q in sorted(members, key=lambda q: natural_key(self.say(q))):
             cand = self.chosen[q]
             where = _join([_ratio_words(self.words, a, self.say(self.by_id[a.parent].part))
                            for a in cand.anchors])
@@ -1358,7 +1346,7 @@ class _Context:
                 where = ""
             by_where.setdefault(where, []).append(q)
         if len(by_where) > 1:  # copies placed differently: one sentence, the picture shows where
-            by_where = {"": sorted(members, key=lambda q: _natural(self.say(q)))}
+            by_where = {"": sorted(members, key=lambda q: natural_key(self.say(q)))}
         out = []
         for where, qs in by_where.items():
             who = _cap(_join([self.say(q) for q in qs]))

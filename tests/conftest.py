@@ -22,6 +22,33 @@ def update_golden(request) -> bool:
     return bool(request.config.getoption("--update-golden"))
 
 
+#: The example tutorials (every config but the book): the paper's four objects and the study.
+EXAMPLES = sorted(p.stem for p in CONFIGS.glob("*.yaml") if p.stem != "book")
+#: The levels with guides, and all levels a tutorial can have.
+GUIDED = ("novice", "apprentice", "master")
+
+
+@pytest.fixture(scope="session")
+def examples():
+    """name -> (tutorial, plan, {(view name, level): ViewPlan}) for the four examples, every
+    view at the config's levels, the guided ones and ``basic``; built once per test run."""
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    out = {}
+    for name in EXAMPLES:
+        t = load_tutorial(CONFIGS / f"{name}.yaml")
+        plan = build_plan(t.model, t.solver)
+        views = {}
+        for view in t.views:
+            levels = tuple(dict.fromkeys(tuple(t.levels) + GUIDED + ("basic",)))
+            for vp in seq.sequence_views(plan, view, levels, t.paper, t.sequence):
+                views[(view.name, vp.level)] = vp
+        out[name] = (t, plan, views)
+    return out
+
+
 @pytest.fixture(scope="session")
 def shared_models() -> Path:
     """Folder of the public test models; tests using it skip when it is absent."""

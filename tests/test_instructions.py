@@ -18,15 +18,12 @@ import pytest
 
 from h2s_print import layout as L
 from h2s_print import sequence as seq
-from h2s_print.config import load_tutorial
 from h2s_print.constructions import RATIOS, Face, construct
 from h2s_print.instructions import (ALPHABET, Many, Pts, construction_specs, letter_steps, spec,
                                     unique_specs)
 from h2s_print.plan import build_plan
 
-from conftest import CONFIGS
 
-EXAMPLES = ("camera", "mixer", "train", "roller")
 BOX = ((0.0, 0.0, 0.0), (40.0, 30.0, 20.0))
 
 
@@ -132,17 +129,7 @@ def test_points_within_tolerance_share_a_letter():
 # ----------------------------------------------------------------------------- on the pages
 
 
-@pytest.fixture(scope="module")
-def examples():
-    out = {}
-    for name in EXAMPLES:
-        t = load_tutorial(CONFIGS / f"{name}.yaml")
-        plan = build_plan(t.model, t.solver)
-        out[name] = (t, plan, {(v.name, vp.level): vp for v in t.views
-                               for vp in seq.sequence_views(plan, v, ("novice", "apprentice",
-                                                                      "master"), t.paper,
-                                                            t.sequence)})
-    return out
+# ``examples`` (every view and level of the four examples) is conftest's shared fixture.
 
 
 def _letters_in(substeps) -> set[str]:

@@ -16,35 +16,19 @@ import trimesh
 
 from h2s_print import sequence as seq
 from h2s_print.candidates import Anchor, Candidate
-from h2s_print.config import PaperSpec, SequenceSettings, SolverSettings, ViewSpec, load_tutorial
-from h2s_print.plan import Plan, build_plan, view_json
+from h2s_print.config import PaperSpec, SequenceSettings, SolverSettings, ViewSpec
+from h2s_print.plan import Plan, view_json
 from h2s_print.ratios import entry_for
 from h2s_print.select import Selection
 from h2s_print.types import Model, Part, Primitive, readonly
 
-from conftest import CONFIGS
-
-EXAMPLES = sorted(p.stem for p in CONFIGS.glob("*.yaml") if p.stem != "book")
-GUIDED = ("novice", "apprentice", "master")
+from conftest import GUIDED  # the examples themselves: conftest's ``examples`` fixture
 
 
 # ----------------------------------------------------------------------------- fixtures
 
 
-@pytest.fixture(scope="module")
-def examples():
-    """name -> (tutorial, plan, {(view name, level): ViewPlan}); built once per module."""
-    out = {}
-    for name in EXAMPLES:
-        t = load_tutorial(CONFIGS / f"{name}.yaml")
-        plan = build_plan(t.model, t.solver)
-        views = {}
-        for view in t.views:
-            levels = tuple(dict.fromkeys(tuple(t.levels) + GUIDED + ("basic",)))
-            for vp in seq.sequence_views(plan, view, levels, t.paper, t.sequence):
-                views[(view.name, vp.level)] = vp
-        out[name] = (t, plan, views)
-    return out
+# ``examples`` (every view and level of the four examples) is conftest's shared fixture.
 
 
 def _all_views(examples):
