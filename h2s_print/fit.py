@@ -90,6 +90,17 @@ Choice (by score):
    its score, in model units) is at most ``plane_thickness`` times the smaller of its two
    in-plane extents (default 1/25).  Measured against the smaller side, not the diagonal, so a
    thin *strip* (9 x 25 x 368 mm) stays a cuboid while a 6 mm seat board of 256 mm is a plane.
+1b. Otherwise, a part whose *convex hull* is a cylinder on an axis (:func:`_round_hull`: its
+   outline seen along the axis is round, as for a round plate, and seen across it fills at
+   least :data:`ROUND_SIDE_FILL` of its rectangle) is the **cylinder** on that axis when that
+   fit is admissible, whatever the scores and ``custom_above``.  A hollow round part (a ring,
+   a bearing race, a tube) has inner walls that pull every least-squares score about equally,
+   so by score alone a 10 mm ring of radii 90-100 was a cuboid and a long thick tube custom;
+   its outside is a cylinder, and that is what a sketcher boxes in and puts ellipses on.  A
+   torus is such a ring (a short cylinder, ellipses on its ends); a sphere (side fill pi/4) and
+   a cone are not.  On the examples and shared models every part this rule names was already
+   a cylinder by score, but the oven's oval push buttons (their round-looking outline is an
+   oval: the square cylinder box is not admissible, so they stay cuboids).
 2. Otherwise the **solids** (cuboid, cylinder, frustum; each on its best admissible axis, ties
    to the lowest axis; a type with no admissible axis drops out) compete: least score wins,
    and a simpler one wins when its score is at most ``(1 + tie_tolerance)`` times the least
@@ -116,8 +127,8 @@ Decisions recorded here (the brief left them open), measured with the defaults:
   buttons (19.3 x 21.4 mm across; a square box 0.9 mm beyond a side, 2.8 % of the diagonal).
   A 4-sided one is a cuboid.
 * Closed round blobs are **not** called cylinders or frusta: a sphere comes out a cuboid (its
-  bounding cube, score ~0.029, the cylinder's 0.0235 being within the tie), and so does a
-  torus (~0.021).  Their scores say honestly that the fit is poor; a caller who wants them
+  bounding cube, score ~0.029, the cylinder's 0.0235 being within the tie); a torus is a
+  cylinder by rule 1b.  Their scores say honestly that the fit is poor; a caller who wants them
   ``custom`` lowers ``custom_above`` to 0.02.  Only very non-convex parts (a 3-D cross, ~0.069)
   are custom by default: a surface score cannot see that a U-shaped frame is not solid
   (0.009), and a box is the scaffold a sketcher would draw around it anyway.
@@ -649,15 +660,21 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
     plane = best["plane"]
     size = np.subtract(bbox[1], bbox[0])
     side = min(float(size[k]) for k in _others(plane.axis))
+    round_axis = None if 2.0 * plane.score * diag <= settings.plane_thickness * side \
+        else _round_hull(part)
+    hull_cylinder = next((f for f in fits if f.kind == "cylinder" and f.axis == round_axis
+                          and f.rejected is None), None)
     if 2.0 * plane.score * diag <= settings.plane_thickness * side:
         chosen = plane
+    elif hull_cylinder is not None:  # rule 1b: its outside is a cylinder (a ring, a tube)
+        chosen = hull_cylinder
     else:  # rule 2: least residual, the simpler solid winning near-ties
         solids = [best[t] for t in ("cuboid", "cylinder", "frustum") if t in best]
         least_solid = min(f.score for f in solids)
         chosen = min((f for f in solids
                       if f.score <= (1.0 + settings.tie_tolerance) * least_solid + _EXACT),
                      key=lambda f: SIMPLICITY[f.kind])
-    if least > settings.custom_above:
+    if least > settings.custom_above and chosen is not hull_cylinder:
         nearest = min(best.values(), key=lambda f: (f.score, SIMPLICITY[f.kind])).kind
         log.info("part %s: best fit %s misses by %.4f of its diagonal: custom",
                  part.name, nearest, least)
@@ -697,6 +714,36 @@ def _round_outline(part: Part, axis: int) -> bool:
     r = np.hypot(*q[hull.vertices].T)
     return len(hull.vertices) >= ROUND_MIN_CORNERS and bool(
         np.all(np.abs(r - 1.0) <= ROUND_OUTLINE_TOL))
+
+
+#: A solid's outline seen across an axis fills at least this share of its bounding
+#: rectangle when its sides run straight along the axis (a cylinder's: all of it; a sphere's
+#: pi / 4, a cone's 1/2).
+ROUND_SIDE_FILL = 0.95
+
+
+def _round_hull(part: Part) -> int | None:
+    """The axis along which the part's convex hull is a cylinder, or None: its outline seen
+    along the axis is round (:func:`_round_outline`) and its outline seen along each other
+    axis fills its rectangle (:data:`ROUND_SIDE_FILL`).  Ties: the lowest axis."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
+    size = np.subtract(part.box[1], part.box[0])
+    for axis in range(3):
+        if not _round_outline(part, axis):
+            continue
+        fills = []
+        for across in _others(axis):
+            keep = [k for k in range(3) if k != across]
+            area = float(size[keep[0]] * size[keep[1]])
+            try:
+                fills.append(ConvexHull(used[:, keep]).volume / area if area > 0 else 0.0)
+            except (QhullError, ValueError):
+                fills.append(0.0)
+        if min(fills) >= ROUND_SIDE_FILL:
+            return axis
+    return None
 
 
 def fit_primitives(model: Model, settings: FitSettings = FitSettings()) -> tuple[Primitive, ...]:

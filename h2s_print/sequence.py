@@ -95,8 +95,12 @@ Decisions where the brief is open (kept here, in one place)
   Ellipse steps use the same rule with ``k = 4`` per end face.
   Parts without anchors are never eyeballed (there is nothing to construct).
 * **Left out** (paper §5 (iii)).  A part is *hidden* when :func:`~h2s_print.contours.final_contours`
-  (all parts hide all parts) leaves it no polyline; a hidden part is left out unless it is an
-  ancestor (in the anchoring graph) of a part that is not hidden.
+  (all parts hide all parts) leaves it no polyline; a hidden part is left out unless a kept
+  part's construction is drawn from it (:meth:`_Context.guided_parts`): the first part of a
+  group of identical parts is constructed from its parents, a copy only when its sentence
+  places it by them, so the train's far wheels, hidden, are no longer drawn to place a near
+  wheel that is drawn as a copy anyway.  Each hidden part kept is logged with the parts it
+  anchors ("kept though hidden: ..."); the control tutorial keeps the visible parts only.
 * **Levels.**  ``novice`` sees every line (roles ``construction``, ``guide``, ``vanishing``),
   ``apprentice`` the resulting lines and the alignment lines that carry them (``guide``,
   ``vanishing``), ``master`` none.  Novice and apprentice have the same steps and texts (the
@@ -927,25 +931,82 @@ class _Context:
             self._finals[key] = {cs.part: _contour_strokes(cs, self.camera) for cs in sets}
         return self._finals[key]
 
-    def kept(self, parts: dict[str, Part], anchoring: bool) -> set[str]:
-        """Parts not left out: visible ones and (``anchoring``) their ancestors."""
-        names = [p.name for p in self.plan.model.parts]
+    def visible(self, parts: dict[str, Part]) -> set[str]:
+        """Parts with at least one line in the finished drawing (:meth:`finals`)."""
         finals = self.finals(parts)
-        visible = {n for n in names if finals[n]}
+        return {p.name for p in self.plan.model.parts if finals[p.name]}
+
+    def closure(self, visible: set[str], uses: dict[str, set[str]]) -> set[str]:
+        """``visible`` and every part reached from it through ``uses`` (part -> the parts its
+        construction is drawn from)."""
         keep = set(visible)
-        if anchoring:
-            stack = list(visible)
-            while stack:
-                part = stack.pop()
-                for pid in self.chosen[part].parents:
-                    pp = self.by_id[pid].part
-                    if pp not in keep:
-                        keep.add(pp)
-                        stack.append(pp)
+        stack = sorted(visible)
+        while stack:
+            for pp in sorted(uses.get(stack.pop(), ())):
+                if pp not in keep:
+                    keep.add(pp)
+                    stack.append(pp)
+        return keep
+
+    def parents_of(self, part: str) -> set[str]:
+        """The parts ``part``'s selected candidate hangs off."""
+        return {self.by_id[pid].part for pid in self.chosen[part].parents}
+
+    def guided_parts(self) -> tuple[list[list[str]], set[str]]:
+        """The guided tutorial's parts: repeat groups in drawing order (:meth:`repeat_groups`)
+        and the set of parts kept (module docstring, *Left out*).
+
+        A hidden part stays only when a kept part's construction is drawn from it: the first
+        part of a group is constructed from its parents, a copy only when its sentence places
+        it by them (:meth:`copy_places`); a copy drawn "where the picture shows it" needs none.
+        Leaving a part out changes the groups, so this runs to a fixed point (every part a kept
+        part is drawn from is kept), starting from every ancestor of a visible part; without
+        one within a round per part, every ancestor is kept (always a fixed point).
+        """
+        names = [p.name for p in self.plan.model.parts]
+        visible = self.visible(self.adjusted)
+        everything = self.closure(visible, {p: self.parents_of(p) for p in names})
+        keep = everything
+        for _ in range(len(names) + 1):
+            groups = self.groups_of(keep)
+            uses: dict[str, set[str]] = {}
+            for group in groups:
+                uses[group[0]] = self.parents_of(group[0])
+                placed = self.copy_places(group[1:], keep)
+                for q in group[1:]:
+                    uses[q] = self.parents_of(q) if placed.get(q) else set()
+            need = self.closure(visible, uses)
+            if need == keep:
+                break
+            keep = need
+        else:  # no fixed point: keep every ancestor, as the first round did
+            keep = everything
+            groups = self.groups_of(keep)
         left_out = sorted(set(names) - keep)
         if left_out:
             log.info("left out (hidden, anchoring nothing visible): %s", ", ".join(left_out))
-        return keep
+        for part in sorted(keep - visible):
+            users = sorted(q for q in keep if part in uses.get(q, ()))
+            log.info("kept though hidden: %s (anchors %s)", part, ", ".join(users))
+        return groups, keep
+
+    def groups_of(self, keep: set[str]) -> list[list[str]]:
+        """:meth:`repeat_groups` of the kept parts in :meth:`guided_order`; a group whose first
+        part hangs off a part left out is led by its first member that does not (drawn before
+        the group), so that the copy of a part left out is the one placed by eye."""
+        order = self.guided_order(keep)
+        boxes = {p: self.chosen[p].box for p in order}
+        parents = {p: self.parents_of(p) & keep for p in order}
+        groups = self.repeat_groups(order, boxes, parents)
+        before: set[str] = set()
+        for group in groups:
+            if not self.parents_of(group[0]) <= keep:
+                lead = next((q for q in group[1:] if self.parents_of(q) <= before), None)
+                if lead is not None:
+                    group.remove(lead)
+                    group.insert(0, lead)
+            before.update(group)
+        return groups
 
     # -------------------------------------------------------------- drafts
     def say(self, part: str) -> str:
@@ -1334,19 +1395,29 @@ class _Context:
             groups.append(group)
         return groups
 
-    def same_sentence(self, members: Sequence[str], shape: str) -> list[Spec]:
+    def copy_places(self, members: Sequence[str], keep: set[str]) -> dict[str, str]:
+        """Per copy of a group, the words placing it by its parents ("its back in line with the
+        body's front"), or "" when it is placed where the picture shows it: when the words are
+        too long to read (:data:`REPEAT_WHERE_WORDS`), name a part not in ``keep`` (left out),
+        or the copies are placed differently."""
+        where = {}
+        for q in members:
+            cand = self.chosen[q]
+            w = _join([_ratio_words(self.words, a, self.say(self.by_id[a.parent].part))
+                       for a in cand.anchors])
+            short = len(w.split()) <= REPEAT_WHERE_WORDS
+            where[q] = w if short and self.parents_of(q) <= keep else ""
+        if len(set(where.values())) > 1:
+            return {q: "" for q in members}
+        return where
+
+    def same_sentence(self, members: Sequence[str], shape: str, keep: set[str]) -> list[Spec]:
         """"Knob 2 and knob 3: the same box, its back in line with the body's front." for the
-        group's other members, those placed alike said together."""
+        group's other members, those placed alike said together (:meth:`copy_places`)."""
+        places = self.copy_places(members, keep)
         by_where: dict[str, list[str]] = {}
         for q in sorted(members, key=lambda q: natural_key(self.say(q))):
-            cand = self.chosen[q]
-            where = _join([_ratio_words(self.words, a, self.say(self.by_id[a.parent].part))
-                           for a in cand.anchors])
-            if len(where.split()) > REPEAT_WHERE_WORDS:  # a copy is placed by eye, not read
-                where = ""
-            by_where.setdefault(where, []).append(q)
-        if len(by_where) > 1:  # copies placed differently: one sentence, the picture shows where
-            by_where = {"": sorted(members, key=lambda q: natural_key(self.say(q)))}
+            by_where.setdefault(places[q], []).append(q)
         out = []
         for where, qs in by_where.items():
             who = _cap(_join([self.say(q) for q in qs]))
@@ -1367,18 +1438,15 @@ class _Context:
 
     def guided(self) -> tuple[_Draft, ...]:
         if self._guided is None:
-            keep = self.kept(self.adjusted, anchoring=True)
-            order = self.guided_order(keep)
-            boxes = {p: self.chosen[p].box for p in order}
-            parents = {p: {self.by_id[pid].part for pid in self.chosen[p].parents} for p in order}
-            groups = self.repeat_groups(order, boxes, parents)
+            groups, keep = self.guided_parts()
+            boxes = {p: self.chosen[p].box for g in groups for p in g}
             described: list[tuple[Vec3, Vec3, int]] = []
             drafts: list[_Draft] = []
             drawn: list[str] = []
             for gi, group in enumerate(groups):
                 p = group[0]
                 shape = self.words.shape(self.plan.primitive(p).type)
-                repeat = self.same_sentence(group[1:], shape) if len(group) > 1 else []
+                repeat = self.same_sentence(group[1:], shape, keep) if len(group) > 1 else []
                 made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
                                              repeat=repeat)
                 if len(group) > 1:
@@ -1438,7 +1506,10 @@ class _Context:
 
     def basic(self) -> tuple[_Draft, ...]:
         if self._basic is None:
-            keep = self.kept(self.originals, anchoring=False)
+            keep = self.visible(self.originals)
+            left_out = sorted({p.name for p in self.plan.model.parts} - keep)
+            if left_out:
+                log.info("left out (hidden): %s", ", ".join(left_out))
 
             order = self.basic_order(keep)
             drafts: list[_Draft] = []

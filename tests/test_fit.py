@@ -177,6 +177,39 @@ def test_octagonal_prism_is_a_cylinder_and_square_prism_a_cuboid():
     assert np.allclose(square_prim.box, ((-half, -half, -1), (half, half, 1)), atol=1e-6)
 
 
+@pytest.mark.parametrize("height,r_in", [(10, 90), (10, 50), (30, 80), (80, 80), (200, 50),
+                                          (200, 90)])
+@pytest.mark.parametrize("axis", [0, 1, 2])
+def test_rings_and_tubes_are_cylinders_on_their_axis(height, r_in, axis):
+    """A hollow round part is boxed as the cylinder of its outside (rule 1b): its inner wall
+    must not turn it into a cuboid (by score, a 10 mm ring of radii 90-100 was one) or a
+    custom part (a long thick tube was)."""
+    ring = trimesh.creation.annulus(r_min=r_in, r_max=100.0, height=height, sections=96)
+    perm = {0: [2, 0, 1], 1: [0, 2, 1], 2: [0, 1, 2]}[axis]  # old z lands on `axis`
+    v = np.asarray(ring.vertices)[:, perm]
+    part = _part(v, np.asarray(ring.faces))
+    prim = fit_primitive(part)
+    assert (prim.type, prim.axis) == ("cylinder", axis)
+    lo, hi = np.array(prim.box[0]), np.array(prim.box[1])
+    blo, bhi = np.array(part.box[0]), np.array(part.box[1])
+    tol = ENCLOSE * box_diagonal(part.box) + 1e-9
+    assert np.all(lo <= blo + tol) and np.all(hi >= bhi - tol)  # it encloses the ring
+    assert np.all(lo >= blo - INSIDE * box_diagonal(part.box))  # and stays at its size
+    assert np.all(hi <= bhi + INSIDE * box_diagonal(part.box))
+
+
+def test_a_torus_is_a_ring_and_a_sphere_or_cone_is_not_a_cylinder_by_its_hull():
+    from h2s_print.fit import _round_hull
+
+    def part(m):
+        return _part(*_as_arrays(m))
+    assert _round_hull(part(trimesh.creation.torus(1.0, 0.2))) == 2
+    assert fit_primitive(part(trimesh.creation.torus(1.0, 0.2))).type == "cylinder"
+    assert _round_hull(part(trimesh.creation.icosphere(subdivisions=3))) is None
+    assert _round_hull(part(trimesh.creation.cone(1.0, 2.0, sections=64))) is None
+    assert _round_hull(part(trimesh.creation.box((1.0, 1.0, 1.0)))) is None
+
+
 def test_sphere_is_not_misreported():
     sphere = trimesh.creation.icosphere(subdivisions=3, radius=1.0)
     part = _part(*_as_arrays(sphere))

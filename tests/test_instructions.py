@@ -398,3 +398,70 @@ def test_a_round_table_top_and_foot_get_their_ellipses(tmp_path):
         r = np.hypot((pts[:, 0] - centre[0]) / (0.5 * (hi[0] - lo[0])),
                      (pts[:, 1] - centre[1]) / (0.5 * (hi[1] - lo[1])))
         assert np.allclose(r, 1.0)  # inscribed in the rectangle: touching its edges
+
+
+def _round_case(kind: str):
+    """(meshes z-up as (name, vertices, faces), names of the round parts) on a 400 mm base."""
+    import trimesh
+
+    def at(m, off):
+        return np.asarray(m.vertices, float) + off, np.asarray(m.faces)
+
+    base = ("base", *at(trimesh.creation.box((400.0, 400.0, 40.0)), (0.0, 0.0, 20.0)))
+    if kind == "disc":  # 8 mm thick: a plane that carries its ellipse
+        return [base, ("disc", *at(trimesh.creation.cylinder(100.0, 8.0, sections=96),
+                                   (0.0, 0.0, 44.0)))], ["disc"]
+    if kind == "plate":  # a thick round plate: a flat cylinder
+        return [base, ("plate", *at(trimesh.creation.cylinder(120.0, 30.0, sections=96),
+                                    (0.0, 0.0, 55.0)))], ["plate"]
+    if kind == "ring":  # a bearing ring: by score alone a cuboid
+        return [base, ("ring", *at(trimesh.creation.annulus(90.0, 100.0, 10.0, sections=96),
+                                   (0.0, 0.0, 45.0)))], ["ring"]
+    if kind == "axle":  # one mesh holding the two wheels of an axle: split, then two cylinders
+        wheel = trimesh.creation.cylinder(60.0, 30.0, sections=64)
+        wheel.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [1, 0, 0]))
+        pair = trimesh.util.concatenate([wheel.copy().apply_translation((0, -150, 100)),
+                                         wheel.copy().apply_translation((0, 150, 100))])
+        return [base, ("wheels", *at(pair, (0.0, 0.0, 0.0)))], ["wheels_1", "wheels_2"]
+    raise ValueError(kind)
+
+
+@pytest.mark.parametrize("kind", ["disc", "plate", "ring", "axle"])
+def test_round_parts_get_round_primitives_and_constructed_ellipses(tmp_path, kind):
+    """Issue 12 point 1: a disc, a round plate, a ring and a two-wheel axle mesh are round
+    primitives, and each gets its ellipses constructed in an ellipse step (not by eye): every
+    ellipse point lies on the ellipse inscribed in its box face."""
+    from _meshfiles import write_glb
+    from h2s_print.config import ModelSpec, PaperSpec, SequenceSettings, SolverSettings, ViewSpec
+
+    meshes, round_parts = _round_case(kind)
+    zup = [(n, v[:, [0, 2, 1]] * (1, 1, -1), f) for n, v, f in meshes]  # z-up -> glTF y-up
+    path = write_glb(tmp_path / f"{kind}.glb", zup,
+                     [{"name": n, "mesh": i} for i, (n, _, _) in enumerate(zup)],
+                     scene_extras={"units": "mm"})
+    plan = build_plan(ModelSpec(path), SolverSettings())
+    for part in round_parts:
+        prim = plan.primitive(part)
+        assert prim.type == "cylinder" or (prim.type == "plane" and prim.detail.get("round")), \
+            (part, prim.type)
+    view = ViewSpec("v", azimuth_deg=30.0, elevation_deg=25.0, distance=3.0, lens_mm=50.0,
+                    perspective="two-point")
+    vp = seq.sequence_view(plan, view, "novice", PaperSpec("A4", "landscape", 12.0),
+                           SequenceSettings())
+    chosen = plan.chosen()
+    for part in round_parts:
+        steps = [s for s in vp.steps if s.kind == "ellipse"
+                 and any(st.part == part and st.kind == "ellipse" for st in s.strokes)]
+        assert len(steps) == 1 and not steps[0].eyeball, part
+        prim = plan.primitive(part)
+        lo, hi = (np.asarray(x, float) for x in chosen[part].box)
+        u, v = [k for k in range(3) if k != prim.axis]
+        centre = 0.5 * (lo + hi)
+        for st in steps[0].strokes:
+            if st.part != part:
+                continue
+            pts = np.asarray(st.points3d)
+            assert np.ptp(pts[:, prim.axis]) < 1e-9  # in one face (or the mid-plane)
+            r = np.hypot((pts[:, u] - centre[u]) / (0.5 * (hi[u] - lo[u])),
+                         (pts[:, v] - centre[v]) / (0.5 * (hi[v] - lo[v])))
+            assert np.allclose(r, 1.0)  # inscribed: touching the face's four edges

@@ -8,6 +8,7 @@ rule, anchor guides against the plan.json ratio contract.
 from __future__ import annotations
 
 import json
+import logging
 import re
 
 import numpy as np
@@ -708,6 +709,58 @@ def test_hidden_part_that_anchors_a_visible_part_is_kept():
     assert any(g.role == "vanishing" and g.from3d[2] == g.to3d[2] == 50.0
                and {g.from3d[1], g.to3d[1]} == {150.0, 155.0} for g in step.guides)
 
+
+def test_hidden_copy_is_left_out_when_its_copies_are_placed_by_eye(caplog):
+    """Three identical cubes: w1 and w3 in front of the big box, w2 hidden behind it.  w3 hangs
+    off w2, but as a copy of w1 placed "where the picture shows it" nothing is constructed from
+    w2, so w2 gets no step (issue 12 point 3: the train's far wheels)."""
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "w2": ((-10, 150, 30), (10, 170, 50)),
+             "w1": ((-90, -40, 30), (-70, -20, 50)), "w3": ((70, -40, 30), (90, -20, 50))}
+    anchor = Anchor(2, "lo", "w2", 0.0, 1, 1, "lo")  # w3's bottom in line with w2's
+    plan = _tiny_plan(boxes, {"w3": ("w2", [anchor])})
+    cam = seq.view_camera(plan, FRONT, PAPER)
+    assert {s.part for s in seq.final_strokes(plan, cam, SequenceSettings())} == {"big", "w1", "w3"}
+    with caplog.at_level(logging.INFO, logger="h2s_print.sequence"):
+        vp = seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings())
+    drawn = {st.part for s in vp.steps for st in s.strokes}
+    assert drawn == {"big", "w1", "w3"}
+    assert "w2" not in " ".join(s.text for s in vp.steps)
+    assert any("left out" in r.getMessage() and "w2" in r.getMessage() for r in caplog.records)
+    step = next(s for s in vp.steps if s.kind == "primitive" and s.part == "w1")
+    assert {st.part for st in step.strokes} == {"w1", "w3"}  # w3 drawn with w1, as a copy
+
+
+def test_examples_scaffold_only_visible_parts_and_their_sole_anchors(examples):
+    """Every part a guided primitive step draws is in the finished drawing, or is kept because
+    a kept part's construction names it: an anchor parent of a part whose primitive step
+    constructs it (not a copy drawn by eye).  The train's far wheels are gone (issue 12)."""
+    hidden_drawn = 0
+    for name, (t, plan, views) in examples.items():
+        by_id = {c.id: c for c in plan.candidates}
+        chosen = plan.chosen()
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            final = {st.part for st in seq.final_strokes(plan, vp.camera, t.sequence)}
+            scaffolded = {st.part for s in vp.steps if s.kind == "primitive" for st in s.strokes}
+            leads = {s.part for s in vp.steps if s.kind == "primitive"}
+            for part in sorted(scaffolded - final):
+                users = [q for q in leads
+                         if any(by_id[a.parent].part == part for a in chosen[q].anchors)]
+                assert users, (name, view.name, part)
+                hidden_drawn += 1
+            if name == "train":
+                assert not scaffolded - final, (view.name, scaffolded - final)
+    assert hidden_drawn == 0  # on the examples none is needed
+
+
+def test_hidden_part_kept_as_an_anchor_is_logged(caplog):
+    boxes = {"big": ((-100, 0, 0), (100, 100, 100)), "small": ((-10, 150, 30), (10, 170, 50)),
+             "mast": ((20, 155, 50), (30, 165, 250))}
+    anchor = Anchor(2, "lo", "small", 1.0, 1, 1, "lo")
+    plan = _tiny_plan(boxes, {"mast": ("small", [anchor])})
+    with caplog.at_level(logging.INFO, logger="h2s_print.sequence"):
+        seq.sequence_view(plan, FRONT, "novice", PAPER, SequenceSettings(eyeball_mm2=0.0))
+    assert any(r.getMessage() == "kept though hidden: small (anchors mast)" for r in caplog.records)
 
 def test_scaffold_marks_back_edges_hidden():
     plan = _tiny_plan({"big": ((-100, 0, 0), (100, 100, 100))})
