@@ -548,6 +548,60 @@ def test_constructions_are_drawn_on_faces_the_view_shows(examples):
     assert checked > 50
 
 
+def _box_faces_holding(guide, boxes, tol):
+    """(normal, end, lo, hi) of every face of ``boxes`` whose plane holds the guide."""
+    a, b = np.asarray(guide.from3d, float), np.asarray(guide.to3d, float)
+    for box in boxes:
+        lo, hi = (np.asarray(x, float) for x in box)
+        for n in range(3):
+            for end, c in (("lo", lo[n]), ("hi", hi[n])):
+                if abs(a[n] - c) <= tol and abs(b[n] - c) <= tol:
+                    yield n, end, lo, hi
+
+
+def test_every_construction_line_is_on_a_shown_face_with_room(examples):
+    """Issue 12 point 2, checked on the pages' own guides, sharing no code with the sequencer:
+    every construction line of a step not eyeballed lies in the plane of a selected box face
+    that faces the camera, whose projected area over the step's lines inside it is at least
+    the eyeball threshold and whose projected width is at least MIN_FACE_WIDTH_MM."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        boxes = [c.box for c in plan.chosen().values()]
+        tol = 1e-6 * float(np.ptp(np.asarray(plan.model.bounds), axis=0).max())
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            eye = np.asarray(vp.camera.position, float)
+            m = vp.camera.projection_mm
+            for step in vp.steps:
+                if step.eyeball or step.kind not in ("primitive", "guides"):
+                    continue
+                for g in (g for g in step.guides if g.role == "construction"):
+                    ok = []
+                    for n, end, lo, hi in _box_faces_holding(g, boxes, tol):
+                        c = lo[n] if end == "lo" else hi[n]
+                        if (eye[n] - c) * (1.0 if end == "hi" else -1.0) <= 0:
+                            continue  # seen from behind
+                        u, v = (k for k in range(3) if k != n)
+                        inside = [h for h in step.guides if all(
+                            abs(q[n] - c) <= tol and lo[u] - tol <= q[u] <= hi[u] + tol
+                            and lo[v] - tol <= q[v] <= hi[v] + tol for q in (h.from3d, h.to3d))]
+                        corners = []
+                        for cu, cv in ((lo[u], lo[v]), (hi[u], lo[v]), (hi[u], hi[v]),
+                                       (lo[u], hi[v])):
+                            q = np.zeros(3)
+                            q[n], q[u], q[v] = c, cu, cv
+                            corners.append(_project(m, q))
+                        p = np.asarray(corners)
+                        area = 0.5 * abs(float(np.dot(p[:, 0], np.roll(p[:, 1], -1))
+                                               - np.dot(p[:, 1], np.roll(p[:, 0], -1))))
+                        longest = float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
+                        ok.append(area / max(len(inside), 1) >= t.sequence.eyeball_mm2
+                                  and area / longest >= seq.MIN_FACE_WIDTH_MM)
+                    assert any(ok), (name, view.name, step.index, g.id)
+                    checked += 1
+    assert checked > 100
+
+
 def test_levels_show_nested_guides_with_the_same_steps(examples):
     for name, (t, plan, views) in examples.items():
         for view in t.views:
