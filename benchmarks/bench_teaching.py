@@ -47,6 +47,17 @@ plans and of every level built; *id names*, steps whose text contains the raw na
 whose name :func:`h2s_print.names.display_names` does not keep; *minutes* as above.  Its last
 line pools every step of every model.
 
+A third table, **pages** (issue 12), over the novice view plans of every view: *round*, the
+parts fitted round (a cylinder, or a plane whose outline is round, ``detail["round"]``);
+*ellipses*, the round parts drawn with ellipses per view summed, as ``constructed/by eye``
+(an ellipse step not eyeballed, or ellipses sketched by eye: an eyeballed ellipse step or one
+joined to the outlines); *back-face*, anchors whose construction face
+(:func:`h2s_print.sequence._anchor_face`) the view shows from behind (the camera position on
+the inner side of the face's plane), over all anchors on faces; *hidden drawn*, parts a
+primitive step draws that have no line in the finished drawing
+(:func:`h2s_print.sequence.final_strokes`), summed over views, and how many of those a drawn
+part's construction names as an anchor parent.
+
 The totals row pools the ratios (sum of numerators over sum of denominators of all models that
 planned) and sums inv, beyond and start.  A model whose plan or view plans fail gets a row with
 the error instead (an ``H2SError`` by its message; anything else by its type, with the
@@ -219,7 +230,39 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
                    if any(p in s.text or p.replace("_", " ") in s.text for p in raw))
     all_words = [len(s.text.split()) for v in views.values() for vp in v.values()
                  for s in vp.steps]
+    # Pages (issue 12)
+    round_parts = sorted(p.part for p in plan.primitives if p.type == "cylinder"
+                         or (p.type == "plane" and p.detail.get("round")))
+    by_id = {c.id: c for c in plan.candidates}
+    constructed = eyeballed = back = on_faces = hidden = hidden_anchor = 0
+    for view in tutorial.views:
+        vp = views[view.name]["novice"]
+        for s in vp.steps:
+            parts = {st.part for st in s.strokes if st.kind == "ellipse"} & set(round_parts)
+            if s.kind == "ellipse" and not s.eyeball:
+                constructed += len(parts)
+            else:
+                eyeballed += len(parts)
+        for part, cand in chosen.items():
+            for a in cand.anchors:
+                if a.face_normal == a.axis:
+                    continue
+                face = seq._anchor_face(a, by_id[a.parent].box, vp.camera)
+                outward = 1.0 if face.end == "hi" else -1.0
+                on_faces += 1
+                back += (vp.camera.position[face.normal] - face.coord) * outward <= 0
+        final = {st.part for st in seq.final_strokes(plan, vp.camera, tutorial.sequence)}
+        drawn = {st.part for s in vp.steps if s.kind == "primitive" for st in s.strokes}
+        leads = {s.part for s in vp.steps if s.kind == "primitive"}
+        for part in drawn - final:
+            hidden += 1
+            hidden_anchor += any(by_id[a.parent].part == part for q in leads
+                                 for a in chosen[q].anchors)
     return {
+        "round": len(round_parts), "round_parts": round_parts,
+        "ellipses_constructed": constructed, "ellipses_by_eye": eyeballed,
+        "back_face": back, "face_anchors": on_faces,
+        "hidden_drawn": hidden, "hidden_anchors": hidden_anchor,
         "shapes": len(classes),
         "steps_max": max(len(vp.steps) for vp in novice),
         "step_limit": 2.5 * len(classes) + 3,
@@ -297,6 +340,18 @@ def text_row(name: str, r: dict[str, Any]) -> str:
             f"{every:>10} {r['id_name_steps']:>8} {mins:>8}")
 
 
+HEADER_PAGES = (f"{'model':<14} {'round':>5} {'ellipses':>9} {'back-face':>10} "
+                f"{'hidden drawn':>12}")
+
+
+def pages_row(name: str, r: dict[str, Any]) -> str:
+    """Issue 12's figures (module docstring, *pages*)."""
+    ell = f"{r['ellipses_constructed']}/{r['ellipses_by_eye']}"
+    back = f"{r['back_face']}/{r['face_anchors']}"
+    hidden = f"{r['hidden_drawn']} ({r['hidden_anchors']} anchor)"
+    return f"{name:<14} {r['round']:>5} {ell:>9} {back:>10} {hidden:>12}"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--models", help="comma-separated config names (e.g. camera,chair_ingolf)")
@@ -354,6 +409,19 @@ def main() -> None:
               f"{sum(w > 70 for w in novice)} of {len(novice)}; every level: median "
               f"{statistics.median(every):g}, max {max(every)}; steps naming an id: "
               f"{sum(r['id_name_steps'] for r in ok)}")
+    print()
+    print("pages")
+    print(HEADER_PAGES)
+    print("-" * len(HEADER_PAGES))
+    for name, r in results.items():
+        if "error" not in r:
+            print(pages_row(name, r))
+    if ok:
+        print("-" * len(HEADER_PAGES))
+        total = {k: sum(r[k] for r in ok) for k in (
+            "round", "ellipses_constructed", "ellipses_by_eye", "back_face", "face_anchors",
+            "hidden_drawn", "hidden_anchors")}
+        print(pages_row("total", total))
     if args.json:
         args.json.write_text(json.dumps(results, indent=1, sort_keys=True) + "\n")
 

@@ -960,53 +960,70 @@ class _Context:
         part of a group is constructed from its parents, a copy only when its sentence places
         it by them (:meth:`copy_places`); a copy drawn "where the picture shows it" needs none.
         Leaving a part out changes the groups, so this runs to a fixed point (every part a kept
-        part is drawn from is kept), starting from every ancestor of a visible part; without
-        one within a round per part, every ancestor is kept (always a fixed point).
+        part is drawn from is kept, and nothing else hidden), starting from every ancestor of a
+        visible part; without one within a round per part, every ancestor is kept (valid: no
+        part is drawn from a part left out, though a hidden one may be drawn for nothing).
         """
         names = [p.name for p in self.plan.model.parts]
         visible = self.visible(self.adjusted)
         everything = self.closure(visible, {p: self.parents_of(p) for p in names})
         keep = everything
         for _ in range(len(names) + 1):
-            groups = self.groups_of(keep)
-            uses: dict[str, set[str]] = {}
-            for group in groups:
-                uses[group[0]] = self.parents_of(group[0])
-                placed = self.copy_places(group[1:], keep)
-                for q in group[1:]:
-                    uses[q] = self.parents_of(q) if placed.get(q) else set()
+            groups = self.groups_of(keep, visible)
+            uses = self.uses(groups, keep)
             need = self.closure(visible, uses)
             if need == keep:
                 break
             keep = need
-        else:  # no fixed point: keep every ancestor, as the first round did
+        else:
             keep = everything
-            groups = self.groups_of(keep)
+            groups = self.groups_of(keep, visible)
+            uses = self.uses(groups, keep)
         left_out = sorted(set(names) - keep)
         if left_out:
             log.info("left out (hidden, anchoring nothing visible): %s", ", ".join(left_out))
         for part in sorted(keep - visible):
             users = sorted(q for q in keep if part in uses.get(q, ()))
-            log.info("kept though hidden: %s (anchors %s)", part, ", ".join(users))
+            log.info("kept though hidden: %s (anchors %s)", part, ", ".join(users) or "nothing")
         return groups, keep
 
-    def groups_of(self, keep: set[str]) -> list[list[str]]:
-        """:meth:`repeat_groups` of the kept parts in :meth:`guided_order`; a group whose first
-        part hangs off a part left out is led by its first member that does not (drawn before
-        the group), so that the copy of a part left out is the one placed by eye."""
+    def uses(self, groups: Sequence[Sequence[str]], keep: set[str]) -> dict[str, set[str]]:
+        """Per part, the parts its construction is drawn from (:meth:`guided_parts`)."""
+        uses: dict[str, set[str]] = {}
+        for group in groups:
+            uses[group[0]] = self.parents_of(group[0])
+            placed = self.copy_places(group[1:], keep)
+            for q in group[1:]:
+                uses[q] = self.parents_of(q) if placed.get(q) else set()
+        return uses
+
+    def groups_of(self, keep: set[str], visible: set[str]) -> list[list[str]]:
+        """:meth:`repeat_groups` of the kept parts in :meth:`guided_order`, each group led by a
+        part that can be constructed and is seen: when its first part hangs off a part left
+        out, or is hidden while a member is not, the first member that is seen, hangs off no
+        part left out and off parts drawn before the group leads it instead (the copy of a part
+        left out is then the one placed by eye); failing that, a hidden first part is drawn on
+        its own before the others (it anchors them)."""
         order = self.guided_order(keep)
         boxes = {p: self.chosen[p].box for p in order}
         parents = {p: self.parents_of(p) & keep for p in order}
-        groups = self.repeat_groups(order, boxes, parents)
+        out: list[list[str]] = []
         before: set[str] = set()
-        for group in groups:
-            if not self.parents_of(group[0]) <= keep:
-                lead = next((q for q in group[1:] if self.parents_of(q) <= before), None)
+        for group in self.repeat_groups(order, boxes, parents):
+            head = group[0]
+            seen = [q for q in group if q in visible]
+            if not self.parents_of(head) <= keep or (head not in visible and seen):
+                lead = next((q for q in group[1:] if q in visible
+                             and self.parents_of(q) <= before), None)
                 if lead is not None:
-                    group.remove(lead)
-                    group.insert(0, lead)
+                    group = [lead] + [q for q in group if q != lead]
+                elif head not in visible and seen:
+                    out.append([head])
+                    before.add(head)
+                    group = group[1:]
+            out.append(group)
             before.update(group)
-        return groups
+        return out
 
     # -------------------------------------------------------------- drafts
     def say(self, part: str) -> str:
