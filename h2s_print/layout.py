@@ -1578,7 +1578,42 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         texts, extra = next((o for o in options if _fits(o[0], items, frame)), options[0])
         items += extra
         items += texts
+    if grid:  # the grid stops short of every label, so no text is read through its lines
+        boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+        items = [piece for it in items for piece in (
+            _knocked_out(it, boxes, GRID_KNOCKOUT_MM)
+            if isinstance(it, Polyline) and it.role == "grid" else [it])]
     return Page(w, h, tuple(items), (Bookmark(_t("sheet.bookmark")),), "sheet", title, m)
+
+
+#: The perspective grid leaves this much room around each label on the sheet, mm.
+GRID_KNOCKOUT_MM = 1.0
+
+
+def _knocked_out(line: Polyline, boxes: Sequence[Box2], pad: float) -> list[Polyline]:
+    """A straight two-point ``line`` without the stretches inside any of ``boxes`` grown by
+    ``pad`` (pieces under 1 mm dropped)."""
+    (ax, ay), (bx, by) = line.points_mm[0], line.points_mm[-1]
+    cuts = []
+    for x0, y0, x1, y1 in boxes:
+        hit = _clip_segment((ax, ay), (bx, by), (x0 - pad, y0 - pad, x1 + pad, y1 + pad))
+        if hit is None:
+            continue
+        length = math.hypot(bx - ax, by - ay) or 1.0
+        t = sorted(math.hypot(q[0] - ax, q[1] - ay) / length for q in hit)
+        cuts.append((t[0], t[1]))
+    if not cuts:
+        return [line]
+    out: list[Polyline] = []
+    start = 0.0
+    for t0, t1 in sorted(cuts) + [(1.0, 1.0)]:
+        if t0 > start:
+            p = (ax + start * (bx - ax), ay + start * (by - ay))
+            q = (ax + t0 * (bx - ax), ay + t0 * (by - ay))
+            if math.dist(p, q) > 1.0:
+                out.append(replace(line, points_mm=(p, q)))
+        start = max(start, t1)
+    return out
 
 
 # ----------------------------------------------------------------------------- book

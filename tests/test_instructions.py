@@ -318,19 +318,23 @@ def test_the_picture_keeps_one_scale_on_every_step_page(examples, level):
             assert round(r.w_mm, 9) in widths
 
 
-def test_drawing_sheet_labels_do_not_overlap(examples):
-    """The calibrated sheet's labels (vanishing points, horizon, footprint) never overlap each
-    other, and no label is crossed by an arrow, the horizon or the footprint (issue 12)."""
+@pytest.mark.parametrize("grid", [False, True])
+def test_drawing_sheet_labels_do_not_overlap(examples, grid):
+    """The calibrated sheet's labels (vanishing points, horizon, footprint, title, scale) never
+    overlap each other, and no drawn line crosses one: arrows, horizon, footprint, scale bar,
+    registration marks, and the perspective grid, which stops short of them (issue 12)."""
     for name, (t, plan, views) in examples.items():
         for (view, level), vp in views.items():
             if level != "novice":
                 continue
-            page = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            page = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, grid=grid)
             texts = [it for it in page.items if isinstance(it, L.Text) and it.string]
             for a, b in itertools.combinations(texts, 2):
                 assert not L._boxes_overlap(a.box_mm, b.box_mm), (name, view, a.string, b.string)
-            drawn = L._segments([it for it in page.items if isinstance(it, L.Polyline)
-                                 and it.role in ("vp_arrow", "horizon", "ground")])
+            lines = [it for it in page.items if isinstance(it, L.Polyline)]
+            assert {it.role for it in lines} >= {"vp_arrow", "ground", "scale_bar", "registration"}
+            assert ("grid" in {it.role for it in lines}) is grid
+            drawn = L._segments(lines)
             for tx in texts:
                 assert not L._crossings(drawn, tx.box_mm), (name, view, tx.string)
 
