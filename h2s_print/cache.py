@@ -3,7 +3,7 @@
 Stages 1-5 (load, fit, relate, candidates, select) depend only on the model files and the
 settings that read and solve them, never on a view, level or paper; they are also the slow part
 when SCIP works hard.  ``h2s build`` and ``h2s plan`` keep each solved :class:`~h2s_print.plan.Plan`
-in ``DIR/.h2s-cache/<key>.pickle`` so a rebuild after changing one tutorial re-solves only it.
+in ``DIR/.h2s-cache/<key>.h2splan`` so a rebuild after changing one tutorial re-solves only it.
 
 The key (:func:`plan_key`) is the SHA-256 of a canonical JSON document holding:
 
@@ -15,11 +15,13 @@ The key (:func:`plan_key`) is the SHA-256 of a canonical JSON document holding:
 * the h2s version, a hash of the package's own source files (so an edited checkout never reads
   a stale plan), and the versions of numpy, scipy, trimesh and pyscipopt.
 
-An entry is ``MAGIC`` + SHA-256 of the payload + the payload (a pickle of ``(key, plan)``).  An
-entry that is truncated, altered, unreadable or for another key is ignored (and rewritten by
-the caller).  Entries are written atomically.  A cache entry is trusted like any file in the
-output folder: pickles run code when loaded, so do not point ``-o`` at a folder other people
-can write to (or pass ``--no-cache``).
+An entry is ``MAGIC`` + SHA-256 of the payload + the payload: the plan as plain data
+(:mod:`h2s_print.planfile`: JSON and NumPy arrays in an ``.npz`` read with
+``allow_pickle=False``), never a pickle, so reading an entry from a shared output folder cannot
+run code.  An entry that is truncated, altered, unreadable, of another format, for another key,
+or whose fields do not check (types, shapes, cross-references) is ignored, with a warning, and
+rewritten by the caller.  Entries are written atomically.  Entries of the older pickle format
+(``<key>.pickle``) are never read.
 """
 
 from __future__ import annotations
@@ -28,7 +30,6 @@ import functools
 import hashlib
 import json
 import logging
-import pickle
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -37,13 +38,14 @@ from . import __version__
 from .config import ModelSpec, SolverSettings
 from .errors import H2SError
 from .files import write_bytes_atomic
+from .planfile import decode, encode
 
 log = logging.getLogger(__name__)
 
 #: The cache folder's name inside the output folder.
 CACHE_DIR = ".h2s-cache"
 #: First bytes of every entry; bump the number when the entry layout changes.
-MAGIC = b"h2s-plan-cache/1\n"
+MAGIC = b"h2s-plan-cache/2\n"
 _DIGEST = 32  # bytes of a SHA-256 digest
 _CHUNK = 1 << 20
 
@@ -118,13 +120,11 @@ def plan_key(spec: ModelSpec, settings: SolverSettings) -> str | None:
 
 def entry_path(folder: Path, key: str) -> Path:
     """The file of cache entry ``key`` in ``folder``."""
-    return Path(folder) / f"{key}.pickle"
+    return Path(folder) / f"{key}.h2splan"
 
 
 def load_plan(folder: Path, key: str) -> Any | None:
     """The plan cached under ``key``, or ``None`` when absent, corrupt or not a plan."""
-    from .plan import Plan
-
     path = entry_path(folder, key)
     try:
         data = path.read_bytes()
@@ -140,14 +140,10 @@ def load_plan(folder: Path, key: str) -> Any | None:
         log.warning("%s: corrupt cache entry ignored; solving again", path)
         return None
     try:
-        stored_key, plan = pickle.loads(payload)
-    except Exception:  # noqa: BLE001 - any unpickling failure means "not a usable entry"
-        log.warning("%s: unreadable cache entry ignored; solving again", path)
+        return decode(payload, key)
+    except ValueError as exc:
+        log.warning("%s: unusable cache entry ignored (%s); solving again", path, exc)
         return None
-    if stored_key != key or not isinstance(plan, Plan):
-        log.warning("%s: cache entry for another plan ignored; solving again", path)
-        return None
-    return plan
 
 
 #: Selection statuses worth keeping: proven optimal, or the best found within
@@ -171,7 +167,11 @@ def store_plan(folder: Path, key: str, plan: Any) -> Path | None:
         log.info("plan not cached: its selection ended with SCIP status %s",
                  plan.selection.status)
         return None
-    payload = pickle.dumps((key, plan), protocol=pickle.HIGHEST_PROTOCOL)
+    try:
+        payload = encode(plan, key)
+    except (TypeError, ValueError) as exc:  # a value plain data cannot hold: a bug, not fatal
+        log.warning("plan cache not written: %s", exc)
+        return None
     data = MAGIC + hashlib.sha256(payload).digest() + payload
     try:
         return write_bytes_atomic(entry_path(folder, key), data)

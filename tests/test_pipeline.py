@@ -10,10 +10,9 @@ from typing import Any
 
 import pytest
 import yaml
+from conftest import CONFIGS, REPO
 
 from h2s_print.cli import main
-
-from conftest import CONFIGS, REPO
 
 pypdf = pytest.importorskip("pypdf")
 
@@ -164,10 +163,22 @@ def test_step_ranges_and_file_names():
 
 
 def _fake_plan(status: str, gap: float = 0.0) -> Any:
-    from types import SimpleNamespace
+    """A one-cube plan whose selection ended with ``status`` (no solve)."""
+    import numpy as np
+    from _meshfiles import CUBE_F, CUBE_V
 
-    sel = SimpleNamespace(status=status, optimal=status == "optimal", gap=gap)
-    return SimpleNamespace(selection=sel, model=SimpleNamespace(parts=()), candidates=())
+    from h2s_print.candidates import Candidate
+    from h2s_print.config import SolverSettings
+    from h2s_print.plan import Plan
+    from h2s_print.select import Selection
+    from h2s_print.types import Model, Part, Primitive, readonly
+
+    box = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    part = Part("cube", readonly(CUBE_V, np.float64), readonly(CUBE_F, np.int64))
+    cand = Candidate("cube", "cube", box, True, (), 0, (), (0, 1, 2), 6.0, 0.0)
+    sel = Selection(("cube",), 6.0, status, gap, 0.1, "linear", status == "optimal", 1, 0)
+    return Plan(Model("cube.glb", "mm", (part,)), (Primitive("cube", "cuboid", None, box, 0.0),),
+                (), (cand,), sel, SolverSettings())
 
 
 @pytest.mark.parametrize("status, kept", [("optimal", True), ("time_limit", True),

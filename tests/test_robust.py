@@ -345,7 +345,7 @@ def test_ctrl_c_during_the_scip_solve_exits_130_and_caches_nothing(tmp_path):
     assert err.strip().splitlines()[-1] == "h2s: interrupted; nothing was written"
     assert "plan solved" not in err  # the interrupted solve went no further
     assert outputs(out) == []
-    assert not list(out.rglob("*.pickle"))  # and no plan was cached
+    assert not list(out.rglob(".h2s-cache/*"))  # and no plan was cached
 
 
 def test_plan_on_a_book_says_to_use_build(tmp_path, capsys):
