@@ -587,12 +587,13 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item
     # drawn in ink, so the object emerges from its scaffold as in the paper's figures.
     for earlier in plan.steps[:i]:
         for s in earlier.strokes:
-            key = {"contour": "ink", "scaffold_hidden": "earlier_hidden"}.get(s.kind, "earlier")
+            key = {"contour": "ink", "scaffold_hidden": "earlier_hidden",
+                   "ellipse_hidden": "earlier_hidden"}.get(s.kind, "earlier")
             items += view.lines(s.points_mm, STYLES[key], f"stroke_{key}")
     for g, key in _step_guides(plan, i):
         items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
     for s in step.strokes:
-        key = "new_hidden" if s.kind == "scaffold_hidden" else "new"
+        key = "new_hidden" if s.kind in ("scaffold_hidden", "ellipse_hidden") else "new"
         items += view.lines(s.points_mm, STYLES[key], "stroke_new")
     items += place_labels(view, step.labels, items)
     return items
@@ -907,13 +908,22 @@ def estimate_minutes(plan: ViewPlan) -> int:
     pages make the reader draw, so a master (no guides shown) is quicker than a novice."""
     boxes = {st.part for s in plan.steps if s.kind in ("primitive", "basic")
              for st in s.strokes}
-    ellipses = sum(1 for s in plan.steps for st in s.strokes if st.kind == "ellipse")
+    ellipses = len({_ellipse_key(st) for s in plan.steps for st in s.strokes
+                    if st.kind in ("ellipse", "ellipse_hidden")})
     outlined = {st.part for s in plan.steps if s.kind == "contour" for st in s.strokes
                 if st.kind == "contour"}
     guides = sum(1 for s in plan.steps for g in s.guides if g.status == "new")
     total = (READ_MINUTES * len(plan.steps) + GUIDE_MINUTES * guides + BOX_MINUTES * len(boxes)
              + ELLIPSE_MINUTES * ellipses + OUTLINE_MINUTES * len(outlined))
     return max(5, int(math.ceil(total / 5.0 - 1e-9)) * 5)
+
+
+def _ellipse_key(stroke: Stroke) -> tuple:
+    """One ellipse's identity across the runs it is cut into (seen, hidden): its part and the
+    plane it lies in (the coordinate its points share)."""
+    pts = np.asarray(stroke.points3d, dtype=float)
+    axis = int(np.argmin(np.ptp(pts, axis=0)))
+    return stroke.part, axis, round(float(pts[0, axis]), 9)
 
 
 def _level_name(level: str) -> str:

@@ -157,6 +157,7 @@ from .constructions import Face, align, construct, ellipse_on_face
 from .contours import adjust_part, final_contours, trace_contours, visible_points
 from .errors import SelectionError
 from .names import PartName, display_names, natural_key
+from .occlude import Solid, box_solid, cylinder_solid, hidden, polyhedron, runs
 from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, points_key, spec,
                            unique_specs)
 from .order import drawing_order, part_size, start_part
@@ -724,6 +725,7 @@ def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
 _DRAWS: dict[str, tuple[str, ...]] = {
     "diagonals": ("first", "second"), "half_diagonals": ("first", "second"),
     "through": ("line",), "cross": ("line",), "from": ("line",),
+    "ellipse_diagonals": ("first", "second"), "ellipse_diagonals_plate": ("first", "second"),
 }
 
 
@@ -873,6 +875,8 @@ class _Context:
     _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
     _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
     _box_steps: dict[str, int] = field(default_factory=dict)
+    _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
+    _parts: tuple[list[list[str]], set[str]] | None = None
     _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
     names: dict[str, PartName] = field(default_factory=dict)
 
@@ -964,6 +968,8 @@ class _Context:
         visible part; without one within a round per part, every ancestor is kept (valid: no
         part is drawn from a part left out, though a hidden one may be drawn for nothing).
         """
+        if self._parts is not None:
+            return self._parts
         names = [p.name for p in self.plan.model.parts]
         visible = self.visible(self.adjusted)
         everything = self.closure(visible, {p: self.parents_of(p) for p in names})
@@ -985,7 +991,8 @@ class _Context:
         for part in sorted(keep - visible):
             users = sorted(q for q in keep if part in uses.get(q, ()))
             log.info("kept though hidden: %s (anchors %s)", part, ", ".join(users) or "nothing")
-        return groups, keep
+        self._parts = (groups, keep)
+        return self._parts
 
     def uses(self, groups: Sequence[Sequence[str]], keep: set[str]) -> dict[str, set[str]]:
         """Per part, the parts its construction is drawn from (:meth:`guided_parts`)."""
@@ -1322,40 +1329,118 @@ class _Context:
                 if sum(1 for an in cand.anchors if an.axis == a) < 2
                 and _extent(cand.box, a) > 1e-9 * biggest]
 
-    def ellipse_draft(self, part: str, box: Box, basic: bool) -> _Draft:
+    def solids(self, basic: bool) -> list[tuple[str, Solid]]:
+        """The drawn primitives as solids (:mod:`h2s_print.occlude`), by part: the guided
+        tutorial's kept parts in their selected boxes, or (``basic``) the visible parts in
+        their fitted ones."""
+        key = "basic" if basic else "guided"
+        if key not in self._solids:
+            if basic:
+                names = sorted(self.visible(self.originals))
+            else:
+                names = sorted(self.guided_parts()[1])
+            out = []
+            for name in names:
+                prim = self.plan.primitive(name)
+                box = prim.box if basic else self.chosen[name].box
+                if prim.type == "cylinder" and prim.axis is not None:
+                    out.append((name, cylinder_solid(box, prim.axis)))
+                elif prim.type == "frustum":
+                    pts, faces, _ = _solid(prim, box)
+                    out.append((name, polyhedron(pts, faces)))
+                else:  # a cuboid, a plane (its slab), a custom part: its box
+                    out.append((name, box_solid(box)))
+            self._solids[key] = out
+        return self._solids[key]
+
+    def ellipse_strokes(self, part: str, fe: Any, basic: bool) -> list[Stroke]:
+        """The ellipse ``fe`` of ``part`` as strokes, ``ellipse`` where the drawn primitives
+        leave it seen and ``ellipse_hidden`` where they hide it (:func:`occlude.hidden`; a
+        round plate's ellipse lies inside its own slab, which does not count)."""
+        flat = self.plan.primitive(part).type == "plane"
+        solids = [sd for name, sd in self.solids(basic) if not (flat and name == part)]
+        pts = np.vstack([fe.points3d, fe.points3d[:1]])
+        mask = hidden(pts, self.camera.position, solids)
+        return [_stroke("ellipse_hidden" if off else "ellipse", part, run, self.camera)
+                for off, run in runs(pts, mask)]
+
+    def ellipse_drafts(self, part: str, box: Box, basic: bool,
+                       copies: Sequence[tuple[str, Box]] = ()) -> list[_Draft]:
+        """The ellipse steps of a round part (and of its identical ``copies``).
+
+        A round plate has one ellipse, a cylinder two, each its own step (one ellipse a page):
+        the ellipse of the end face turned toward the camera (the *near* one) is constructed
+        in that face (diagonals for its centre, lines through the centre toward the vanishing
+        points, the ellipse through the four points where they meet the edges), its points
+        lettered; the far end face, which the view shows from behind, is never constructed on:
+        lines carried from the four points toward the axis' vanishing point meet its edges
+        where its ellipse touches them.  Copies get the same lines and ellipses, said once.
+        A near face under the eyeball rule (``k = 4``), or ``basic``, makes one step "by eye"
+        for both ellipses (it joins the part's outline step in a guided tutorial).
+        """
         prim = self.plan.primitive(part)
         axis = prim.axis
-        if prim.type == "plane":  # a round plate: its ellipse in the rectangle drawn
-            mid = 0.5 * (box[0][axis] + box[1][axis])
-            lo, hi = list(box[0]), list(box[1])
-            lo[axis] = hi[axis] = mid
-            box = (tuple(lo), tuple(hi))
-        ends = [Face(box, axis, "lo")] if prim.type == "plane" else [
-            Face(box, axis, "lo"), Face(box, axis, "hi")]
-        ends.sort(key=lambda f: (not _front_facing(f, self.camera), f.end))
-        lines: list[_Line] = []
-        strokes: list[Stroke] = []
-        eyeball = basic
-        for face in ends:
-            fe = ellipse_on_face(face, self.camera)
-            lines += [_Line(ln.role, ln.start, ln.end) for ln in fe.lines]
-            pts = np.vstack([fe.points3d, fe.points3d[:1]])
-            strokes.append(_stroke("ellipse", part, pts, self.camera))
-            if _too_small(self.camera, face.corners, 4, self.settings.eyeball_mm2):
-                eyeball = True
-        u, v = ends[0].in_axes
-        name = _cap(self.say(part))
-        if eyeball:
-            head = _t("headline.ellipse_eyeball", Part=name)
-            specs = [spec("ellipse_by_eye")]
-        else:
-            head = _t("headline.ellipse", Part=name)
-            specs = [spec("ellipse_centre"),
-                     spec("ellipse_lines", vp_u=self.words.vp(u), vp_v=self.words.vp(v)),
-                     spec("ellipse_draw")]
-        subs = self.lettered(specs)
-        return _Draft(part, "ellipse", eyeball, () if eyeball else tuple(lines),
-                      tuple(strokes), head, subs)
+        u, v = (a for a in range(3) if a != axis)
+        members = [(part, box), *copies]
+        names = sorted((self.say(q) for q, _ in members), key=natural_key)
+        who = _cap(_join(names))
+        near: list[tuple[str, Any]] = []
+        far: list[tuple[str, Any, Any]] = []
+        for q, b in members:
+            if prim.type == "plane":  # a round plate: its ellipse in the rectangle drawn
+                mid = 0.5 * (b[0][axis] + b[1][axis])
+                lo, hi = list(b[0]), list(b[1])
+                lo[axis] = hi[axis] = mid
+                near.append((q, ellipse_on_face(Face((tuple(lo), tuple(hi)), axis, "lo"),
+                                                self.camera)))
+                continue
+            ends = sorted((Face(b, axis, "lo"), Face(b, axis, "hi")),
+                          key=lambda f: (not _front_facing(f, self.camera), f.end))
+            fe = ellipse_on_face(ends[0], self.camera)
+            near.append((q, fe))
+            far.append((q, fe, ellipse_on_face(ends[1], self.camera)))
+        one = not copies
+        if basic or _too_small(self.camera, near[0][1].face.corners, 4,
+                               self.settings.eyeball_mm2):
+            head = _t("headline.ellipse_eyeball" if one else "headline.ellipse_many_eyeball",
+                      Part=_cap(self.say(part)), Parts=who)
+            strokes = [st for q, fe in near for st in self.ellipse_strokes(q, fe, basic)]
+            strokes += [st for q, _, be in far for st in self.ellipse_strokes(q, be, basic)]
+            return [_Draft(part, "ellipse", True, (), tuple(strokes), head,
+                           self.lettered([spec("ellipse_by_eye")]))]
+        fe = near[0][1]
+        a, b, c, d = fe.face.corners
+        t = fe.touch  # the middles of the edges: (u hi, v hi, u lo, v lo), round the face
+        around = Many(tuple(Pts((x,)) for x in t))
+        same = [spec("ellipse_copies")] if copies else []
+        specs = [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
+                      point=Pts((fe.centre,)), part=self.say(part),
+                      face=self.words.face(axis, fe.face.end))
+                 if far else  # a plate is drawn as one rectangle
+                 spec("ellipse_diagonals_plate", first=Pts((a, c)), second=Pts((b, d)),
+                      point=Pts((fe.centre,)), part=self.say(part)),
+                 spec("through", point=Pts((fe.centre,)), line=Pts((t[2], t[0])),
+                      vp=self.words.vp(u)),
+                 spec("through", point=Pts((fe.centre,)), line=Pts((t[3], t[1])),
+                      vp=self.words.vp(v)),
+                 spec("ellipse_draw", points=around), *same]
+        key = "ellipse_plate" if not far else "ellipse_near"
+        out = [_Draft(part, "ellipse", False,
+                      tuple(_Line(ln.role, ln.start, ln.end) for _, e in near for ln in e.lines),
+                      tuple(st for q, e in near for st in self.ellipse_strokes(q, e, basic)),
+                      _t(f"headline.{key}" + ("" if one else "_many"),
+                         Part=_cap(self.say(part)), Parts=who),
+                      self.lettered(specs))]
+        if far:
+            out.append(_Draft(
+                part, "ellipse", False,
+                tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
+                tuple(st for q, _, be in far for st in self.ellipse_strokes(q, be, basic)),
+                _t("headline.ellipse_far" + ("" if one else "_many"), Part=_cap(self.say(part)),
+                   Parts=who),
+                self.lettered([spec("ellipse_carry", points=around, vp=self.words.vp(axis)),
+                               *same])))
+        return out
 
     def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
         """Contour steps, front to back (:func:`_front_to_back`); each part's lines are its
@@ -1484,18 +1569,15 @@ class _Context:
                 prim = self.plan.primitive(p)
                 if not _round(prim):
                     continue
-                first = self.ellipse_draft(p, boxes[p], False)
-                extra = [self.ellipse_draft(q, boxes[q], False) for q in group[1:]]
-                if extra:  # the same construction on each: said once, drawn on all
-                    first = replace(first, strokes=first.strokes + tuple(
-                                        st for d in extra for st in d.strokes),
-                                    lines=first.lines + tuple(ln for d in extra for ln in d.lines))
-                first = replace(first, group=tuple(group))
-                if first.eyeball:
-                    small[p] = first
+                made = [replace(d, group=tuple(group)) for d in self.ellipse_drafts(
+                    p, boxes[p], False, [(q, boxes[q]) for q in group[1:]])]
+                if made[0].eyeball:
+                    small[p] = made[0]
                 else:
-                    ellipses.append(first)
-            drafts += _paired(ellipses, "ellipse_many", self.say)
+                    ellipses += made
+            for d in ellipses:  # diagonals a primitive step drew already: used, not redrawn
+                here = len(drafts) + 1
+                drafts.append(replace(d, specs=tuple(self.drawn_before(x, here) for x in d.specs)))
             contours = self.contour_drafts(order, self.adjusted)
             merged: list[_Draft] = []
             at: dict[str, int] = {}
@@ -1540,8 +1622,8 @@ class _Context:
                 drafts.append(_Draft(p, "basic", True, (),
                                      _scaffold(p, prim, prim.box, self.camera, self.tol),
                                      head, subs))
-            drafts += [self.ellipse_draft(p, self.plan.primitive(p).box, True) for p in order
-                       if _round(self.plan.primitive(p))]
+            drafts += [d for p in order if _round(self.plan.primitive(p))
+                       for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
             drafts += self.contour_drafts(order, self.originals)
             self._basic = tuple(self.letter(drafts))
         return self._basic

@@ -257,7 +257,9 @@ class Stroke:
 
     Attributes:
         kind: ``scaffold`` (primitive edge with a face toward the camera),
-            ``scaffold_hidden`` (a back edge, drawn dotted), ``ellipse`` or ``contour``.
+            ``scaffold_hidden`` (a back edge, drawn dotted), ``ellipse`` (a run of an
+            ellipse the drawn primitives leave seen), ``ellipse_hidden`` (a run they hide,
+            drawn dotted: :mod:`h2s_print.occlude`) or ``contour``.
         part: the part it belongs to.
         points3d: polyline vertices, model units.
         points_mm: their projections on the sheet, mm.

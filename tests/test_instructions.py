@@ -230,8 +230,9 @@ def test_identical_parts_are_one_step_that_draws_every_instance_box(examples):
         assert np.allclose(pts.min(axis=0), box[0]) and np.allclose(pts.max(axis=0), box[1]), m
     others = [seq._cap(m.replace("_", " ")) for m in members if m != step.part]
     assert any(all(o.lower() in x.lower() for o in others) for x in step.substeps), step.substeps
-    # their ellipses and outlines are one step each too
-    assert len([s for s in vp.steps if s.kind == "ellipse" and s.part == step.part]) == 1
+    # their near ellipses, their far ellipses and their outlines are one step each too
+    ell = [s for s in vp.steps if s.kind == "ellipse" and s.part == step.part]
+    assert len(ell) == 2 and all({st.part for st in s.strokes} == set(members) for s in ell)
     assert len([s for s in vp.steps if s.kind == "contour" and s.part.startswith("wheel")]) == 1
 
 
@@ -269,7 +270,7 @@ def test_id_named_parts_are_called_by_short_labels_drawn_on_the_picture_and_list
         assert any(isinstance(t, L.Text) and t.role == "part_label" and t.string == "part 1"
                    for t in page.items)
         sheet = " ".join(t.string for t in pages[-1].items if isinstance(t, L.Text))
-        assert "ground plane of the base body" in sheet
+        assert "bottom face of the base body (step 1)" in sheet
 
 
 def test_a_line_used_from_an_earlier_step_has_the_same_letters_there(examples):
@@ -455,15 +456,18 @@ def test_round_parts_get_round_primitives_and_constructed_ellipses(tmp_path, kin
     chosen = plan.chosen()
     for part in round_parts:
         steps = [s for s in vp.steps if s.kind == "ellipse"
-                 and any(st.part == part and st.kind == "ellipse" for st in s.strokes)]
-        assert len(steps) == 1 and not steps[0].eyeball, part
+                 and any(st.part == part for st in s.strokes)]
         prim = plan.primitive(part)
+        # a plate: one ellipse; a cylinder: its near and its far end, a step each
+        assert len(steps) == (1 if prim.type == "plane" else 2), part
+        assert not any(s.eyeball for s in steps), part
         lo, hi = (np.asarray(x, float) for x in chosen[part].box)
         u, v = [k for k in range(3) if k != prim.axis]
         centre = 0.5 * (lo + hi)
-        for st in steps[0].strokes:
+        for st in (st for s in steps for st in s.strokes):
             if st.part != part:
                 continue
+            assert st.kind in ("ellipse", "ellipse_hidden")
             pts = np.asarray(st.points3d)
             assert np.ptp(pts[:, prim.axis]) < 1e-9  # in one face (or the mid-plane)
             r = np.hypot((pts[:, u] - centre[u]) / (0.5 * (hi[u] - lo[u])),

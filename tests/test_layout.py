@@ -468,7 +468,7 @@ def test_sheet_horizon_and_far_vanishing_points():
     names = {0: "left vanishing point", 1: "right vanishing point"}
     assert [vp.axis for vp in finite] == [0, 1]
     for vp, tip, label in zip(finite, tips, labels):
-        assert label == f"{names[vp.axis]}: {math.dist(tip, vp.xy_mm):.0f} mm"
+        assert label == f"{names[vp.axis]}: {math.dist(tip, vp.xy_mm):.0f} mm beyond the arrow's tip"
         # the arrow points at the VP
         d = np.subtract(vp.xy_mm, tip)
         shaft = np.subtract(tip, arrows[0::2][tips.index(tip)].points_mm[0])
@@ -561,7 +561,7 @@ def test_sheet_writes_part_names_with_spaces():
     steps = (replace(plan.steps[0], part="shutter_button"),) + plan.steps[1:]
     plan = ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, plan.vanishing_points, steps)
     label, = texts(L.lay_out_sheet("t", plan), "ground_label")
-    assert label.string == "ground plane of the shutter button"
+    assert label.string == "bottom face of the shutter button (step 1)"
 
 
 def test_vp_on_the_sheet_is_marked_where_it_is():

@@ -1,0 +1,142 @@
+"""Which points of the scaffold the drawn primitives hide (exact, for convex solids).
+
+The finished drawing's lines are hidden by the parts' meshes (:mod:`h2s_print.contours`); the
+*scaffold* is drawn over the primitives the reader has drawn, so what hides a scaffold line is
+those primitives: boxes, frusta (convex polyhedra) and cylinders.  A point ``P`` is hidden when
+the segment from the eye to ``P`` runs through the inside of a solid for a stretch longer than
+:data:`EPS` of its length before reaching ``P``: a point on a solid's surface facing the eye is
+seen, one on its far side or inside it is not.  Used for the ellipses of the ellipse steps (the
+far end of a cylinder is half hidden by the cylinder itself; a column's top ellipse lies
+inside the table top drawn before it), which the pages then draw dotted.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
+
+#: Share of the eye-point segment inside a solid below which the point counts as seen
+#: (points on a surface facing the eye, up to rounding and tessellation).
+EPS = 1e-6
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Solid:
+    """A convex solid: the half-spaces ``normals @ x <= offsets`` and, for a cylinder, the
+    elliptic cross-section ``((x_u - cu) / ru)**2 + ((x_v - cv) / rv)**2 <= 1`` (``round``:
+    ``(axis, (cu, cv), (ru, rv))``) as well."""
+
+    normals: np.ndarray
+    offsets: np.ndarray
+    round: tuple[int, tuple[float, float], tuple[float, float]] | None = None
+
+
+def polyhedron(points: np.ndarray, faces: Sequence[Sequence[int]]) -> Solid:
+    """The convex polyhedron with these vertices and (planar) faces, normals pointing out."""
+    pts = np.asarray(points, dtype=float)
+    centre = pts.mean(axis=0)
+    normals, offsets = [], []
+    for f in faces:
+        poly = pts[list(f)]
+        n = np.zeros(3)
+        for i in range(len(poly)):  # Newell's method
+            n += np.cross(poly[i], poly[(i + 1) % len(poly)])
+        length = float(np.linalg.norm(n))
+        if length == 0.0:
+            continue
+        n /= length
+        c = float(n @ poly.mean(axis=0))
+        if n @ centre > c:  # pointing in: flip
+            n, c = -n, -c
+        normals.append(n)
+        offsets.append(c)
+    return Solid(np.array(normals).reshape(-1, 3), np.array(offsets))
+
+
+def box_solid(box: Sequence[Sequence[float]]) -> Solid:
+    """The axis-aligned box ``box``."""
+    lo, hi = (np.asarray(x, dtype=float) for x in box)
+    eye = np.eye(3)
+    return Solid(np.vstack([eye, -eye]), np.concatenate([hi, -lo]))
+
+
+def cylinder_solid(box: Sequence[Sequence[float]], axis: int) -> Solid:
+    """The cylinder inscribed in ``box`` along ``axis`` (an elliptic one if the box is not
+    square across)."""
+    lo, hi = (np.asarray(x, dtype=float) for x in box)
+    u, v = (a for a in range(3) if a != axis)
+    eye = np.eye(3)
+    caps = Solid(np.vstack([eye[axis], -eye[axis]]), np.array([hi[axis], -lo[axis]]))
+    return Solid(caps.normals, caps.offsets,
+                 (axis, ((lo[u] + hi[u]) / 2, (lo[v] + hi[v]) / 2),
+                  ((hi[u] - lo[u]) / 2, (hi[v] - lo[v]) / 2)))
+
+
+def _inside(solid: Solid, eye: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per segment ``eye + t d`` (``t`` in [0, 1]), the interval ``[t0, t1]`` inside ``solid``
+    (empty when ``t0 >= t1``)."""
+    m = len(d)
+    t0, t1 = np.zeros(m), np.ones(m)
+    nd = d @ solid.normals.T  # (m, k)
+    room = solid.offsets - solid.normals @ eye  # (k,)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = room / nd
+    entering = nd < 0
+    leaving = nd > 0
+    never = (nd == 0) & (room < 0)
+    t0 = np.maximum(t0, np.where(entering, t, -np.inf).max(axis=1, initial=-np.inf))
+    t1 = np.minimum(t1, np.where(leaving, t, np.inf).min(axis=1, initial=np.inf))
+    t1 = np.where(never.any(axis=1), -np.inf, t1)
+    if solid.round is not None:
+        axis, (cu, cv), (ru, rv) = solid.round
+        u, v = (a for a in range(3) if a != axis)
+        au, av = (eye[u] - cu) / ru, (eye[v] - cv) / rv
+        bu, bv = d[:, u] / ru, d[:, v] / rv
+        a = bu * bu + bv * bv
+        b = 2.0 * (au * bu + av * bv)
+        c = au * au + av * av - 1.0
+        disc = b * b - 4.0 * a * c
+        ok = (a > 0) & (disc >= 0)
+        root = np.sqrt(np.where(ok, disc, 0.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r0 = np.where(ok, (-b - root) / (2.0 * a), np.inf)
+            r1 = np.where(ok, (-b + root) / (2.0 * a), -np.inf)
+        parallel = a <= 0  # along the axis: inside the cross-section throughout, or never
+        r0 = np.where(parallel, np.where(c <= 0, -np.inf, np.inf), r0)
+        r1 = np.where(parallel, np.where(c <= 0, np.inf, -np.inf), r1)
+        t0, t1 = np.maximum(t0, r0), np.minimum(t1, r1)
+    return t0, t1
+
+
+def hidden(points: np.ndarray, eye: Sequence[float], solids: Sequence[Solid]) -> np.ndarray:
+    """Per point, whether a solid hides it from ``eye`` (module docstring)."""
+    p = np.asarray(points, dtype=float).reshape(-1, 3)
+    e = np.asarray(eye, dtype=float)
+    d = p - e
+    out = np.zeros(len(p), dtype=bool)
+    for solid in solids:
+        t0, t1 = _inside(solid, e, d)
+        out |= (t1 - t0 > EPS) & (t0 < 1.0 - EPS)
+    return out
+
+
+def runs(points: np.ndarray, mask: np.ndarray) -> list[tuple[bool, np.ndarray]]:
+    """A closed polyline (last point = first) cut where ``mask`` changes: ``(masked, run)``
+    pairs, consecutive runs sharing their end points, together the whole polyline."""
+    pts = np.asarray(points, dtype=float)
+    flags = np.asarray(mask, dtype=bool)
+    n = len(pts) - 1  # distinct points of the closed loop
+    if n < 1 or flags[:n].all() or not flags[:n].any():
+        return [(bool(flags[0]) if len(flags) else False, pts)]
+    start = int(np.flatnonzero(flags[:n] != np.roll(flags[:n], 1))[0])  # a change at start
+    order = [(start + k) % n for k in range(n + 1)]
+    out: list[tuple[bool, np.ndarray]] = []
+    run = [order[0]]
+    for i in order[1:]:
+        run.append(i)
+        if flags[i] != flags[run[0]] or i == order[-1]:
+            out.append((bool(flags[run[0]]), pts[run]))
+            run = [i]
+    return out

@@ -1,0 +1,88 @@
+"""Scaffold occlusion by the drawn primitives (h2s_print.occlude), checked by brute force."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from h2s_print.occlude import box_solid, cylinder_solid, hidden, polyhedron, runs
+
+
+def _inside_box(x, lo, hi):
+    return np.all((x > lo) & (x < hi), axis=-1)
+
+
+def _inside_cylinder(x, lo, hi, axis):
+    u, v = (a for a in range(3) if a != axis)
+    c = (np.asarray(lo) + hi) / 2
+    r = (np.asarray(hi) - lo) / 2
+    q = ((x[..., u] - c[u]) / r[u]) ** 2 + ((x[..., v] - c[v]) / r[v]) ** 2
+    return (q < 1) & (x[..., axis] > lo[axis]) & (x[..., axis] < hi[axis])
+
+
+def _brute(points, eye, inside, steps=4000):
+    """Hidden when some sample strictly between the eye and the point (not within 0.1 % of the
+    point) lies strictly inside the solid."""
+    t = np.linspace(0.0, 0.999, steps)[None, :, None]
+    seg = eye + t * (points[:, None, :] - eye)
+    return inside(seg).any(axis=1)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_box_and_cylinder_hide_what_brute_force_says(seed):
+    rng = np.random.default_rng(seed)
+    lo, hi = np.array([-1.0, -2.0, 0.0]), np.array([1.0, 2.0, 3.0])
+    eye = np.array([6.0, -5.0, 8.0]) * rng.uniform(0.8, 1.2, 3)
+    pts = rng.uniform(-3, 4, (400, 3))
+    for solid, inside in ((box_solid((lo, hi)), lambda x: _inside_box(x, lo, hi)),
+                          (cylinder_solid((lo, hi), 2),
+                           lambda x: _inside_cylinder(x, lo, hi, 2))):
+        got = hidden(pts, eye, [solid])
+        want = _brute(pts, eye, inside)
+        # brute force samples the segment: it can miss a graze shorter than its step
+        assert np.mean(got == want) > 0.99
+        assert not (want & ~got).any()  # whatever sampling finds inside, the exact test does
+
+
+def test_points_on_surfaces_facing_the_eye_are_seen_and_the_far_side_is_not():
+    box = box_solid(((0, 0, 0), (1, 1, 1)))
+    eye = (0.5, 0.5, 5.0)
+    pts = np.array([(0.5, 0.5, 1.0), (0.2, 0.9, 1.0), (0.5, 0.5, 0.0), (0.5, 0.5, 0.5),
+                    (2.0, 0.5, 0.5)])
+    assert hidden(pts, eye, [box]).tolist() == [False, False, True, True, False]
+    # a cylinder's far rim from above and aside: the near half seen, the far half hidden
+    cyl = cylinder_solid(((-1, -1, 0), (1, 1, 2)), 2)
+    theta = np.linspace(0, 2 * np.pi, 72, endpoint=False)
+    rim = np.stack([np.cos(theta), np.sin(theta), np.zeros_like(theta)], axis=1)
+    h = hidden(rim, (6.0, 0.0, 10.0), [cyl])
+    assert not h[np.cos(theta) > 0.2].any() and h[np.cos(theta) < -0.2].all()
+    assert not hidden(rim + (0, 0, 2), (6.0, 0.0, 10.0), [cyl]).any()  # the near (top) rim
+
+
+def test_a_frustum_polyhedron_matches_its_half_spaces():
+    # a truncated pyramid: base 2 x 2 at z = 0, top 1 x 1 at z = 1
+    pts = np.array([[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0],
+                    [-.5, -.5, 1], [.5, -.5, 1], [.5, .5, 1], [-.5, .5, 1]], float)
+    faces = [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    solid = polyhedron(pts, faces)
+    assert np.all(solid.normals @ np.array([0, 0, 0.5]) < solid.offsets)  # a middle point is inside
+    assert np.allclose(np.max(pts @ solid.normals.T - solid.offsets, axis=1), 0.0)
+    eye = np.array([0.0, 0.0, 5.0])
+    # seen from above: the top face is seen, a point of the base under it is hidden, a point
+    # on the base outside the top's shadow but under a slanted side is hidden too
+    got = hidden(np.array([(0, 0, 1), (0, 0, 0), (0.9, 0, 0), (1.5, 0, 0)], float), eye, [solid])
+    assert got.tolist() == [False, True, True, False]
+
+
+def test_runs_cut_a_closed_loop_where_the_mask_changes_and_join_up():
+    theta = np.linspace(0, 2 * np.pi, 13)
+    loop = np.stack([np.cos(theta), np.sin(theta), 0 * theta], axis=1)
+    loop[-1] = loop[0]
+    mask = np.array([0, 0, 1, 1, 1, 0, 0, 0, 1, 0, 0, 0, 0], bool)
+    out = runs(loop, mask)
+    assert [m for m, _ in out].count(True) == 2 and [m for m, _ in out].count(False) == 2
+    for (_, a), (_, b) in zip(out, out[1:] + out[:1]):
+        assert np.allclose(a[-1], b[0])  # each run ends where the next starts
+    assert sum(len(r) - 1 for _, r in out) == 12  # every segment of the loop, once
+    whole = runs(loop, np.zeros(13, bool))
+    assert len(whole) == 1 and whole[0][0] is False and len(whole[0][1]) == 13
