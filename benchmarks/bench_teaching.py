@@ -50,8 +50,8 @@ line pools every step of every model.
 A third table, **pages** (issue 12), over the novice view plans of every view: *round*, the
 parts fitted round (a cylinder, or a plane whose outline is round, ``detail["round"]``);
 *ellipses*, the round parts drawn with ellipses per view summed, as ``constructed/by eye``
-(an ellipse step not eyeballed, or ellipses sketched by eye: an eyeballed ellipse step or one
-joined to the outlines); *back-face*, anchors whose construction face
+(a part in an ellipse step not eyeballed, or a part whose ellipses, seen or dotted, are only
+sketched by eye: an eyeballed ellipse step or one joined to the outlines); *back-face*, anchors whose construction face
 (:func:`h2s_print.sequence._anchor_face`) the view shows from behind (the camera position on
 the inner side of the face's plane), over all anchors on faces; *hidden drawn*, parts a
 primitive step draws that have no line in the finished drawing
@@ -237,12 +237,14 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
     constructed = eyeballed = back = on_faces = hidden = hidden_anchor = 0
     for view in tutorial.views:
         vp = views[view.name]["novice"]
+        made: set[str] = set()
+        sketched: set[str] = set()
         for s in vp.steps:
-            parts = {st.part for st in s.strokes if st.kind == "ellipse"} & set(round_parts)
-            if s.kind == "ellipse" and not s.eyeball:
-                constructed += len(parts)
-            else:
-                eyeballed += len(parts)
+            parts = {st.part for st in s.strokes
+                     if st.kind in ("ellipse", "ellipse_hidden")} & set(round_parts)
+            (made if s.kind == "ellipse" and not s.eyeball else sketched).update(parts)
+        constructed += len(made)
+        eyeballed += len(sketched - made)
         for part, cand in chosen.items():
             for a in cand.anchors:
                 if a.face_normal == a.axis:
