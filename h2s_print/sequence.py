@@ -1375,8 +1375,9 @@ class _Context:
         lettered; the far end face, which the view shows from behind, is never constructed on:
         lines carried from the four points toward the axis' vanishing point meet its edges
         where its ellipse touches them.  Copies get the same lines and ellipses, said once.
-        A near face under the eyeball rule (``k = 4``), or ``basic``, makes one step "by eye"
-        for both ellipses (it joins the part's outline step in a guided tutorial).
+        The construction is shown on the copy whose near face the picture shows largest; that
+        face under the eyeball rule (``k = 4``), or ``basic``, makes one step "by eye" for both
+        ellipses (it joins the part's outline step in a guided tutorial).
         """
         prim = self.plan.primitive(part)
         axis = prim.axis
@@ -1400,6 +1401,11 @@ class _Context:
             near.append((q, fe))
             far.append((q, fe, ellipse_on_face(ends[1], self.camera)))
         one = not copies
+        # the construction is shown on the copy whose near face the picture shows largest
+        show = max(range(len(near)), key=lambda k: (
+            _polygon_area_mm2(self.camera, near[k][1].face.corners), -k))
+        near = [near[show]] + near[:show] + near[show + 1:]
+        far = ([f for f in far if f[0] == near[0][0]] + [f for f in far if f[0] != near[0][0]])
         if basic or _too_small(self.camera, near[0][1].face.corners, 4,
                                self.settings.eyeball_mm2):
             head = _t("headline.ellipse_eyeball" if one else "headline.ellipse_many_eyeball",
@@ -1414,11 +1420,11 @@ class _Context:
         around = Many(tuple(Pts((x,)) for x in t))
         same = [spec("ellipse_copies")] if copies else []
         specs = [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
-                      point=Pts((fe.centre,)), part=self.say(part),
+                      point=Pts((fe.centre,)), part=self.say(near[0][0]),
                       face=self.words.face(axis, fe.face.end))
                  if far else  # a plate is drawn as one rectangle
                  spec("ellipse_diagonals_plate", first=Pts((a, c)), second=Pts((b, d)),
-                      point=Pts((fe.centre,)), part=self.say(part)),
+                      point=Pts((fe.centre,)), part=self.say(near[0][0])),
                  spec("through", point=Pts((fe.centre,)), line=Pts((t[2], t[0])),
                       vp=self.words.vp(u)),
                  spec("through", point=Pts((fe.centre,)), line=Pts((t[3], t[1])),

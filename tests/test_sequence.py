@@ -573,7 +573,7 @@ def test_every_construction_line_is_on_a_shown_face_with_room(examples):
             eye = np.asarray(vp.camera.position, float)
             m = vp.camera.projection_mm
             for step in vp.steps:
-                if step.eyeball or step.kind not in ("primitive", "guides"):
+                if step.eyeball or step.kind not in ("primitive", "guides", "ellipse"):
                     continue
                 for g in (g for g in step.guides if g.role == "construction"):
                     ok = []
@@ -881,7 +881,33 @@ def test_ellipse_steps_for_cylinders(examples):
                         for x in (g.from3d[axis], g.to3d[axis]):
                             assert np.isclose(ends, x, rtol=1e-12, atol=1e-9).any()
                 checked += 1
-    assert checked >= 6
+            # an ellipse sketched by eye: its near end face is under the eyeball rule (4
+            # lines), area and width measured here on the projected face
+            for s in vp.steps:
+                for part in {st.part for st in s.strokes if st.kind.startswith("ellipse")}:
+                    if s.kind == "ellipse" and not s.eyeball:
+                        continue
+                    prim = plan.primitive(part)
+                    box = np.asarray(plan.chosen()[part].box, float)
+                    axis = prim.axis
+                    end = box[1] if eye[axis] > box[1][axis] else box[0]
+                    u, v = (k for k in range(3) if k != axis)
+                    corners = []
+                    for cu, cv in ((box[0][u], box[0][v]), (box[1][u], box[0][v]),
+                                   (box[1][u], box[1][v]), (box[0][u], box[1][v])):
+                        q = np.zeros(3)
+                        q[axis] = 0.5 * (box[0][axis] + box[1][axis]) if prim.type == "plane" \
+                            else end[axis]
+                        q[u], q[v] = cu, cv
+                        corners.append(_project(vp.camera.projection_mm, q))
+                    pc = np.asarray(corners)
+                    area = 0.5 * abs(float(np.dot(pc[:, 0], np.roll(pc[:, 1], -1))
+                                           - np.dot(pc[:, 1], np.roll(pc[:, 0], -1))))
+                    longest = float(np.linalg.norm(pc - np.roll(pc, -1, axis=0), axis=1).max())
+                    assert (area / 4 < t.sequence.eyeball_mm2
+                            or area / longest < seq.MIN_FACE_WIDTH_MM), (name, part, area)
+                    checked += 1
+    assert checked >= 8
 
 
 # ----------------------------------------------------------------------------- text, determinism
