@@ -49,7 +49,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, replace
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -496,11 +496,21 @@ def visible_points(points: Any, occluders: Sequence[Part], camera: Camera,
         camera: the view.
     """
     pts = np.asarray(points, dtype=float).reshape(-1, 3)
-    meshes = [_Mesh(p) for p in occluders]
-    if not len(pts) or not meshes:
+    if not len(pts) or not occluders:
         return np.ones(len(pts), dtype=bool)
-    return np.asarray(_make_engine(settings or ContourSettings(), camera, meshes).visible(pts),
-                      dtype=bool)
+    return occlusion_test(occluders, camera, settings)(pts)
+
+
+def occlusion_test(occluders: Sequence[Part], camera: Camera,
+                   settings: ContourSettings | None = None) -> Callable[[Any], np.ndarray]:
+    """:func:`visible_points` against ``occluders`` as a function of the points, the engine
+    built once (to test many point sets against the same parts)."""
+    meshes = [_Mesh(p) for p in occluders]
+    if not meshes:
+        return lambda points: np.ones(len(np.asarray(points).reshape(-1, 3)), dtype=bool)
+    engine = _make_engine(settings or ContourSettings(), camera, meshes)
+    return lambda points: np.asarray(
+        engine.visible(np.asarray(points, dtype=float).reshape(-1, 3)), dtype=bool)
 
 
 
@@ -582,10 +592,18 @@ def _covers_in_front(coef: np.ndarray, x: np.ndarray, y: np.ndarray, w: np.ndarr
 class _GridEngine:
     """Exact occlusion tests against the triangles binned by their box on a coarse sheet grid.
 
+    Pairs (sample, triangle) are tested in chunks of at most :attr:`PAIRS`; a pair reaches the
+    exact test only when the sample lies in the triangle's projected box and the triangle's
+    nearest corner is nearer than the sample (both conservative: they never drop a pair the
+    exact test would call hidden).
+
     Each sample is tested (barycentric coordinates and ``1/depth`` on the sheet) against every
     occluder triangle whose projected box touches the sample's cell: no resolution limit, and a
     sample lying on its own faces is not hidden by them (they are at its depth, less the bias).
     """
+
+    #: Most (sample, triangle) pairs handled at once.
+    PAIRS = 2_000_000
 
     def __init__(self, camera: Camera, cs: ContourSettings, meshes: Sequence[_Mesh]):
         """An empty engine whose cell size suits ``meshes`` (all occluders to come)."""
@@ -619,11 +637,21 @@ class _GridEngine:
         if not self._parts:
             self.coef = np.zeros((0, 12))
             self.start = np.zeros(self.nx * self.ny + 1, dtype=np.int64)
-            self.order = np.zeros(0, dtype=np.int64)
+            self.order = self.key = np.zeros(0, dtype=np.int64)
+            self.near = self.near_up = np.zeros(0)
+            self.bounds = np.zeros((0, 4))
             return
         self.coef = np.concatenate([p[0] for p in self._parts])
         xs = np.concatenate([p[1] for p in self._parts])
         ys = np.concatenate([p[2] for p in self._parts])
+        # cheap, conservative pre-tests of a pair (see visible): the triangle's projected box,
+        # grown a hair beyond the edge tolerance, and its nearest corner's 1/depth
+        ext = np.maximum(xs.max(axis=1) - xs.min(axis=1), ys.max(axis=1) - ys.min(axis=1))
+        pad = 1e-6 * (1.0 + ext)
+        self.bounds = np.stack([xs.min(axis=1) - pad, xs.max(axis=1) + pad,
+                                ys.min(axis=1) - pad, ys.max(axis=1) + pad], axis=1)
+        self.near = np.stack([self.coef[:, 9] * xs[:, k] + self.coef[:, 10] * ys[:, k]
+                              + self.coef[:, 11] for k in range(3)], axis=1).max(axis=1)
         i0 = np.clip(np.floor((xs.min(axis=1) - self.x0) / self.s), 0, self.nx).astype(np.int64)
         i1 = np.clip(np.floor((xs.max(axis=1) - self.x0) / self.s), -1, self.nx - 1).astype(np.int64)
         j0 = np.clip(np.floor((ys.min(axis=1) - self.y0) / self.s), 0, self.ny).astype(np.int64)
@@ -633,9 +661,19 @@ class _GridEngine:
         ti = np.repeat(np.arange(len(cnt)), cnt)
         off = np.arange(len(ti)) - np.repeat(np.cumsum(cnt) - cnt, cnt)
         cell = (j0[ti] + off // cw[ti]) * self.nx + i0[ti] + off % cw[ti]
-        order = np.argsort(cell, kind="stable")
+        # within a cell, nearest triangles first: entry key = cell * T + rank of the triangle
+        # by its nearest corner (0 = nearest of all), so the triangles of a cell nearer than
+        # a sample are a prefix of its run, found by one binary search
+        t = len(self.near)
+        by_near = np.argsort(-self.near, kind="stable")
+        rank = np.empty(t, dtype=np.int64)
+        rank[by_near] = np.arange(t)
+        self.near_up = self.near[by_near][::-1].copy()  # ascending
+        key = cell * t + rank[ti]
+        order = np.argsort(key, kind="stable")
         self.order = ti[order]
-        self.start = np.searchsorted(cell[order], np.arange(self.nx * self.ny + 1))
+        self.key = key[order]
+        self.start = np.searchsorted(self.key, np.arange(self.nx * self.ny + 1) * t)
 
     def visible(self, points: np.ndarray) -> np.ndarray:
         """(n,) bool: True where no occluder triangle covers the point from the front."""
@@ -648,13 +686,34 @@ class _GridEngine:
         ok = (ix >= 0) & (ix < self.nx) & (iy >= 0) & (iy < self.ny)
         idx = np.flatnonzero(ok)
         cell = iy[idx] * self.nx + ix[idx]
-        lo, n = self.start[cell], self.start[cell + 1] - self.start[cell]
-        rep = np.repeat(np.arange(len(idx)), n)
-        tri = self.order[np.repeat(lo, n) + np.arange(len(rep)) - np.repeat(np.cumsum(n) - n, n)]
-        sample = idx[rep]
-        hit = _covers_in_front(self.coef[tri], q[sample, 0], q[sample, 1], w[sample])
+        # the cell's triangles whose nearest corner is nearer than the sample (1/depth inside
+        # a triangle is at most its corners' largest; 1e-9 to spare)
+        t = len(self.near)
+        wi = w[idx]
+        with np.errstate(divide="ignore"):
+            th = np.where(wi > 0, (1.0 - 1e-9) / np.where(wi > 0, wi, 1.0), np.inf)
+        nearer = t - np.searchsorted(self.near_up, th, side="right")
+        count = np.searchsorted(self.key, cell * t + nearer) - self.start[cell]
         hidden = np.zeros(len(q), dtype=bool)
-        hidden[sample[hit]] = True
+        # samples in chunks of at most PAIRS (sample, triangle) pairs, to bound memory
+        total = np.cumsum(count)
+        first = 0
+        while first < len(idx):
+            base = total[first - 1] if first else 0
+            last = max(first + 1, int(np.searchsorted(total, base + self.PAIRS, side="right")))
+            sl = slice(first, last)
+            first = last
+            lo, n = self.start[cell[sl]], count[sl]
+            rep = np.repeat(np.arange(len(n)), n)
+            tri = self.order[np.repeat(lo, n) + np.arange(len(rep)) - np.repeat(np.cumsum(n) - n, n)]
+            sample = idx[sl][rep]
+            # the exact test only where the sample lies in the triangle's box
+            x, y, ws = q[sample, 0], q[sample, 1], w[sample]
+            b = self.bounds[tri]
+            keep = (x >= b[:, 0]) & (x <= b[:, 1]) & (y >= b[:, 2]) & (y <= b[:, 3])
+            tri, sample, x, y, ws = tri[keep], sample[keep], x[keep], y[keep], ws[keep]
+            hit = _covers_in_front(self.coef[tri], x, y, ws)
+            hidden[sample[hit]] = True
         return ~hidden
 
 

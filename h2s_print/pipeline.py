@@ -230,7 +230,7 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     Raises:
         H2SError: naming the config file and field (``camera.yaml: views[1]: ...``).
     """
-    from .sequence import final_strokes, sequence_views
+    from .sequence import sequence_workbooks
 
     progress = progress or _quiet
     plan, cached = get_plan(tutorial, cache_dir=cache_dir, progress=progress)
@@ -239,13 +239,11 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     for i, view in enumerate(tutorial.views):
         try:
             # one call per view: its levels share the camera and the contour work
-            level_plans = sequence_views(plan, view, tutorial.levels, tutorial.paper,
-                                         tutorial.sequence)
-            level_finals = [final_strokes(plan, vp.camera, tutorial.sequence, level=vp.level)
-                            for vp in level_plans]
+            made = sequence_workbooks(plan, view, tutorial.levels, tutorial.paper,
+                                      tutorial.sequence)
         except H2SError as exc:
             raise in_config(exc, tutorial.path, f"views[{i}]") from None
-        for vp, final in zip(level_plans, level_finals):
+        for vp, final in made:
             views.append(vp)
             finals.append(final)
             progress(Event(tutorial.name, "views", f"sequenced {view.name}/{vp.level}: "

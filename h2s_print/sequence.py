@@ -154,7 +154,7 @@ import numpy as np
 from . import templates
 from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face
-from .contours import adjust_part, final_contours, trace_contours, visible_points
+from .contours import adjust_part, final_contours, occlusion_test, trace_contours
 from .errors import SelectionError
 from .names import PartName, display_names, natural_key
 from .occlude import Solid, box_solid, cylinder_solid, hidden, polyhedron, runs
@@ -814,6 +814,7 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
         samples.append(allp)
     proj = [camera.project(np.asarray(p.vertices, dtype=float)) for p in parts]
     h = np.zeros((n, n), dtype=int)
+    tests: dict[int, Any] = {}  # one occlusion engine per part, built when first needed
     for j in range(n):
         if not len(samples[j]):
             continue
@@ -826,7 +827,9 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
             if not inside.any():
                 continue
             # the contours' own exact occlusion test (no optional ray package needed)
-            seen = visible_points(samples[j][inside], [parts[i]], camera)
+            if i not in tests:
+                tests[i] = occlusion_test([parts[i]], camera)
+            seen = tests[i](samples[j][inside])
             h[i, j] = int(np.count_nonzero(~seen))
     return h
 
@@ -1765,6 +1768,22 @@ def sequence_views(plan: Any, view: ViewSpec, levels: Sequence[str], paper: Pape
     """
     ctx = _context(plan, view, paper, settings)
     return tuple(ctx.view_plan(view.name, level, paper) for level in levels)
+
+
+def sequence_workbooks(plan: Any, view: ViewSpec, levels: Sequence[str], paper: PaperSpec,
+                       settings: SequenceSettings
+                       ) -> tuple[tuple[ViewPlan, tuple[Stroke, ...]], ...]:
+    """:func:`sequence_views` with each level's finished drawing (:func:`final_strokes`),
+    from the contours the view's steps were made of (traced once a view, not again per
+    level)."""
+    ctx = _context(plan, view, paper, settings)
+    out = []
+    for level in levels:
+        parts = ctx.originals if level == "basic" else ctx.adjusted
+        finals = ctx.finals(parts)
+        out.append((ctx.view_plan(view.name, level, paper),
+                    tuple(st for p in plan.model.parts for st in finals[p.name])))
+    return tuple(out)
 
 
 def sequence_view(plan: Any, view: ViewSpec, level: str, paper: PaperSpec,
