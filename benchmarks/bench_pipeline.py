@@ -17,8 +17,10 @@ set size) is its own.  Stages, timed with ``time.perf_counter`` around each stag
   ``relate.detect_relations``; **cand** ``candidates.generate_candidates``; **select**
   ``select.select_candidates`` (the plan, as ``h2s plan`` without the cache);
 * **seq** ``sequence.sequence_views`` for every view at the config's levels, plus the finished
-  drawing per workbook (``sequence.final_strokes``), *less* the time spent in contour tracing
-  and hidden-line removal called from there, which is **contours**;
+  drawing per workbook (``sequence.sequence_workbooks``, as the pipeline calls it), *less* the
+  time spent in contour tracing and hidden-line removal called from there (the sequence
+  module's ``final_contours``, ``trace_contours`` and ``occlusion_test`` tests), which is
+  **contours**;
 * **layout** ``layout.lay_out_workbook`` per workbook; **render** ``render.pdf_bytes`` per
   workbook.
 
@@ -170,24 +172,27 @@ def measure(config: Path) -> dict[str, Any]:
     # contour work called from the sequence stage, timed apart
     contour_s = [0.0]
     originals = {}
-    for name in ("final_contours", "trace_contours", "visible_points"):
-        fn = getattr(seq, name)
-        originals[name] = fn
-
-        def wrapped(*args, _fn=fn, **kwargs):
+    def clocked(fn):
+        def wrapped(*args, **kwargs):
             start = time.perf_counter()
             try:
-                return _fn(*args, **kwargs)
+                out = fn(*args, **kwargs)
             finally:
                 contour_s[0] += time.perf_counter() - start
-        setattr(seq, name, wrapped)
+            return clocked(out) if fn is originals.get("occlusion_test") else out
+        return wrapped
+
+    for name in ("final_contours", "trace_contours", "occlusion_test"):
+        originals[name] = getattr(seq, name)
+    for name, fn in list(originals.items()):
+        setattr(seq, name, clocked(fn))
     try:
         start = time.perf_counter()
         views, finals = [], []
         for view in t.views:
-            for vp in seq.sequence_views(plan, view, t.levels, t.paper, t.sequence):
+            for vp, final in seq.sequence_workbooks(plan, view, t.levels, t.paper, t.sequence):
                 views.append(vp)
-                finals.append(seq.final_strokes(plan, vp.camera, t.sequence, level=vp.level))
+                finals.append(final)
         secs["seq"] = time.perf_counter() - start - contour_s[0]
         secs["contours"] = contour_s[0]
     finally:
