@@ -660,7 +660,22 @@ class _GridEngine:
         cnt = cw * np.maximum(j1 - j0 + 1, 0)
         ti = np.repeat(np.arange(len(cnt)), cnt)
         off = np.arange(len(ti)) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-        cell = (j0[ti] + off // cw[ti]) * self.nx + i0[ti] + off % cw[ti]
+        cx = i0[ti] + off % cw[ti]
+        cy = j0[ti] + off // cw[ti]
+        # a triangle is binned only in the cells it may reach, not every cell of its box (a
+        # thin diagonal triangle's box holds many cells it misses): a cell is dropped when it
+        # lies wholly outside one of the triangle's edges, i.e. that edge function is below the
+        # inside test's tolerance at the cell's best corner (cell grown by 1e-6 mm: rounding)
+        keep = np.ones(len(ti), dtype=bool)
+        pad = 1e-6
+        xa, xb = self.x0 + cx * self.s - pad, self.x0 + (cx + 1) * self.s + pad
+        ya, yb = self.y0 + cy * self.s - pad, self.y0 + (cy + 1) * self.s + pad
+        for i in range(3):
+            a_, b_, c_ = (self.coef[ti, 3 * i + k] for k in range(3))
+            keep &= (a_ * np.where(a_ > 0, xb, xa) + b_ * np.where(b_ > 0, yb, ya) + c_
+                     >= -1e-9)
+        ti, cx, cy = ti[keep], cx[keep], cy[keep]
+        cell = cy * self.nx + cx
         # within a cell, nearest triangles first: entry key = cell * T + rank of the triangle
         # by its nearest corner (0 = nearest of all), so the triangles of a cell nearer than
         # a sample are a prefix of its run, found by one binary search
