@@ -59,7 +59,7 @@ import numpy as np
 
 from . import templates
 from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
-from .constructions import Face, construct
+from .constructions import Face, construct, ellipse_on_face
 from .errors import RenderError
 from .project import edge_exit, horizon_mm, make_camera, vp_side
 from .types import Guide, Label, Step, Stroke, ViewPlan
@@ -795,8 +795,8 @@ class PrimerDiagram:
     """One primer construction: segments in an arbitrary diagram frame (y up).
 
     Attributes:
-        key: ``half``, ``quarter``, ``third``, ``extend`` or ``extend_half`` (the template key
-            under ``primer.diagrams``).
+        key: ``half``, ``quarter``, ``third``, ``extend``, ``extend_half`` or ``ellipse`` (the
+            template key under ``primer.diagrams``).
         segments: ``((x0, y0), (x1, y1), role)``; role ``face`` (the given face), ``construction``
             (helper lines) or ``result`` (the line the construction yields).
     """
@@ -851,6 +851,16 @@ def primer_diagrams() -> tuple[PrimerDiagram, ...]:
                     seen.add(frozenset(seg[:2]))
                     segs.append(seg)
         out.append(PrimerDiagram(key, tuple(segs)))
+    # the ellipse of a round part's end face: diagonals, middle lines, the inscribed ellipse
+    # (h2s_print.constructions.ellipse_on_face, as the ellipse steps draw it)
+    a, b, c, d = face.corners
+    fe = ellipse_on_face(face, camera)
+    segs = [(mm(a), mm(b), "face"), (mm(b), mm(c), "face"), (mm(c), mm(d), "face"),
+            (mm(d), mm(a), "face")]
+    segs += [(mm(ln.start), mm(ln.end), "construction") for ln in fe.lines]
+    ring = [mm(p) for p in fe.points3d]
+    segs += [(ring[k], ring[(k + 1) % len(ring)], "result") for k in range(len(ring))]
+    out.append(PrimerDiagram("ellipse", tuple(segs)))
     return tuple(out)
 
 

@@ -390,7 +390,7 @@ def _on_line(p, a, b):
 
 def test_primer_constructions_are_projectively_exact():
     d = {x.key: x for x in L.primer_diagrams()}
-    assert set(d) == {"half", "quarter", "third", "extend", "extend_half"}
+    assert set(d) == {"half", "quarter", "third", "extend", "extend_half", "ellipse"}
     part = lambda key, role: [s for s in d[key].segments if s[2] == role]
     # 1/2: the result passes through the diagonals' crossing, and stays vertical (two-point)
     (ac, bd), (res,) = part("half", "construction"), part("half", "result")
@@ -410,13 +410,26 @@ def test_primer_constructions_are_projectively_exact():
     f = _meet(cross[0], cross[1], bc[0], bc[1])
     assert _on_line(f, connect[0], connect[1]) < 1e-6
     assert math.dist(connect[1], new_edge[0]) < 1e-6 and math.dist(ext[1], new_edge[0]) < 1e-6
+    # the ellipse: the middle lines cross where the diagonals do; the ellipse passes through
+    # their four ends (the edges' perspective middles) and stays inside the face
+    ac, bd, m1, m2 = part("ellipse", "construction")
+    centre = _meet(ac[0], ac[1], bd[0], bd[1])
+    assert _on_line(centre, *m1[:2]) < 1e-6 and _on_line(centre, *m2[:2]) < 1e-6
+    ring = [s[0] for s in part("ellipse", "result")]
+    for end in (m1[0], m1[1], m2[0], m2[1]):
+        assert min(math.dist(end, r) for r in ring) < 1e-6
+    quad = [s[0] for s in part("ellipse", "face")]
+    for r in ring:  # inside the convex face: on the inner side of every edge (or on it)
+        sides = [((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])) / math.dist(p, q)
+                 for p, q in zip(quad, quad[1:] + quad[:1])]  # signed distances, mm
+        assert min(sides) >= -1e-5 or max(sides) <= 1e-5  # (points rounded to 1e-6 mm)
 
 
 def test_primer_page_has_every_diagram_and_caption():
     _, pages = workbook()
     primer = pages[1]
     diagrams = L.primer_diagrams()
-    assert len(texts(primer, "primer_title")) == len(diagrams) == 5
+    assert len(texts(primer, "primer_title")) == len(diagrams) == 6
     # every segment of every diagram is drawn, none lost to clipping at its cell's edge
     for role in ("face", "construction", "result"):
         want = sum(1 for d in diagrams for s in d.segments if s[2] == role)
