@@ -130,6 +130,8 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Iterable, Mapping, Sequence
 
+import numpy as np
+
 from .config import SolverSettings
 from .errors import SelectionError
 from .order import part_size, start_part
@@ -364,7 +366,8 @@ def _extent(box: Box, axis: int) -> float:
 
 
 def _largest_extent(box: Box) -> float:
-    return max(_extent(box, a) for a in range(3))
+    lo, hi = box
+    return max(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])
 
 
 def _norm_length(box: Box, axis: int) -> float:
@@ -674,13 +677,25 @@ class _Generator:
                             opt.face_area)
                 raw.append((opt.value, opt.value, (opt, twin), 0))
         else:
-            for lo_opt, hi_opt in itertools.product(ends["lo"], ends["hi"]):
-                if (lo_opt.parent_part == hi_opt.parent_part
-                        and lo_opt.anchor.parent != hi_opt.anchor.parent):
-                    continue
-                if hi_opt.value - lo_opt.value <= DEGENERATE * max(length, 1e-300):
-                    continue
-                raw.append((lo_opt.value, hi_opt.value, (lo_opt, hi_opt), 0))
+            # the pairs of anchored ends, those within the change limit only (the same test
+            # as _within_change below, on arrays: most pairs of a big part fail it)
+            los, his = ends["lo"], ends["hi"]
+            if los and his:
+                lv = np.array([o.value for o in los])[:, None]
+                hv = np.array([o.value for o in his])[None, :]
+                ln = _norm_length(orig, axis)
+                limit = mc * ln * (1 + 1e-9) + _EPS * np.maximum(
+                    1.0, np.maximum(np.abs(lv), np.abs(hv)))
+                near = ((np.abs((hv - lv) - (hi0 - lo0)) <= limit)
+                        & (np.abs(0.5 * (lv + hv) - _mid(orig, axis)) <= limit))
+                for i, j in zip(*np.nonzero(near)):
+                    lo_opt, hi_opt = los[i], his[j]
+                    if (lo_opt.parent_part == hi_opt.parent_part
+                            and lo_opt.anchor.parent != hi_opt.anchor.parent):
+                        continue
+                    if hi_opt.value - lo_opt.value <= DEGENERATE * max(length, 1e-300):
+                        continue
+                    raw.append((lo_opt.value, hi_opt.value, (lo_opt, hi_opt), 0))
             for opt in ends["lo"]:
                 raw.append((opt.value, opt.value + length, (opt,), 1))
             for opt in ends["hi"]:
