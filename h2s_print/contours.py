@@ -592,10 +592,11 @@ def _covers_in_front(coef: np.ndarray, x: np.ndarray, y: np.ndarray, w: np.ndarr
 class _GridEngine:
     """Exact occlusion tests against the triangles binned by their box on a coarse sheet grid.
 
-    Pairs (sample, triangle) are tested in chunks of at most :attr:`PAIRS`; a pair reaches the
-    exact test only when the sample lies in the triangle's projected box and the triangle's
-    nearest corner is nearer than the sample (both conservative: they never drop a pair the
-    exact test would call hidden).
+    A sample is tested only against the triangles of its cell whose nearest corner is nearer
+    than it, nearest first, in rounds that stop at its first hit, and only where it lies in the
+    triangle's projected box (conservative: no pair the exact test would call hidden is
+    dropped); at most :attr:`PAIRS` pairs at once.  A triangle is binned only in the cells it
+    may reach.
 
     Each sample is tested (barycentric coordinates and ``1/depth`` on the sheet) against every
     occluder triangle whose projected box touches the sample's cell: no resolution limit, and a
@@ -710,25 +711,29 @@ class _GridEngine:
         nearer = t - np.searchsorted(self.near_up, th, side="right")
         count = np.searchsorted(self.key, cell * t + nearer) - self.start[cell]
         hidden = np.zeros(len(q), dtype=bool)
-        # samples in chunks of at most PAIRS (sample, triangle) pairs, to bound memory
-        total = np.cumsum(count)
-        first = 0
-        while first < len(idx):
-            base = total[first - 1] if first else 0
-            last = max(first + 1, int(np.searchsorted(total, base + self.PAIRS, side="right")))
-            sl = slice(first, last)
-            first = last
-            lo, n = self.start[cell[sl]], count[sl]
-            rep = np.repeat(np.arange(len(n)), n)
-            tri = self.order[np.repeat(lo, n) + np.arange(len(rep)) - np.repeat(np.cumsum(n) - n, n)]
-            sample = idx[sl][rep]
-            # the exact test only where the sample lies in the triangle's box
-            x, y, ws = q[sample, 0], q[sample, 1], w[sample]
-            b = self.bounds[tri]
-            keep = (x >= b[:, 0]) & (x <= b[:, 1]) & (y >= b[:, 2]) & (y <= b[:, 3])
-            tri, sample, x, y, ws = tri[keep], sample[keep], x[keep], y[keep], ws[keep]
-            hit = _covers_in_front(self.coef[tri], x, y, ws)
-            hidden[sample[hit]] = True
+        # In rounds, nearest triangles first: each round tests the next ``k`` candidates of
+        # every sample not yet hidden (``k`` doubling), so a sample stops at the first round
+        # with a hit; at most PAIRS pairs at once (memory).
+        pos = self.start[cell].copy()
+        end = pos + count
+        live = np.flatnonzero(count > 0)
+        k = 16
+        while len(live):
+            for part in np.array_split(live, max(1, -(-len(live) * k // self.PAIRS))):
+                n = np.minimum(end[part] - pos[part], k)
+                rep = np.repeat(np.arange(len(part)), n)
+                at = np.repeat(pos[part], n) + np.arange(len(rep)) - np.repeat(np.cumsum(n) - n, n)
+                tri = self.order[at]
+                sample = idx[part][rep]
+                # the exact test only where the sample lies in the triangle's box
+                x, y, ws = q[sample, 0], q[sample, 1], w[sample]
+                b = self.bounds[tri]
+                keep = (x >= b[:, 0]) & (x <= b[:, 1]) & (y >= b[:, 2]) & (y <= b[:, 3])
+                hit = _covers_in_front(self.coef[tri[keep]], x[keep], y[keep], ws[keep])
+                hidden[sample[keep][hit]] = True
+            pos[live] += k
+            live = live[(pos[live] < end[live]) & ~hidden[idx[live]]]
+            k *= 2
         return ~hidden
 
 
