@@ -6,6 +6,8 @@ DESIGN.md §2.6 and paper §5.  Public verbs:
 * :func:`sequence_view` (and :func:`sequence_views` for several levels at once) -- the
   :class:`~h2s_print.types.ViewPlan` of a view and level;
 * :func:`final_strokes` -- the finished drawing (every part's contours hidden by all parts);
+* :func:`sequence_workbooks` -- :func:`sequence_views` with each level's finished drawing, from
+  the contours the steps were made of (what the pipeline calls);
 * :func:`steps_text` -- a readable dump, one line per step.
 
 What a tutorial contains, in order
