@@ -353,6 +353,7 @@ class _Context:
     a_ref: float
     coplanar: dict[str, list[tuple[str, Relation]]]
     preserved: dict[str, list[tuple[str, Relation]]]
+    preserved_pairs: dict[tuple[str, str], list[Relation]] = field(default_factory=dict)
     start: str | None = None
     cands: dict[str, Candidate] = field(default_factory=dict)
     order: list[str] = field(default_factory=list)
@@ -703,8 +704,12 @@ class _Generator:
             for opt in ends["mid"]:
                 raw.append((opt.value - 0.5 * length, opt.value + 0.5 * length, (opt,), 1))
         options: list[_AxisOption] = []
+        # _within_change, its per-part terms computed once (the same arithmetic)
+        lim0 = mc * _norm_length(orig, axis) * (1 + 1e-9)
+        mid0 = _mid(orig, axis)
         for lo, hi, used, free in raw:
-            if not _within_change(orig, axis, lo, hi, mc):
+            limit = lim0 + _EPS * max(1.0, abs(lo), abs(hi))
+            if not (abs((hi - lo) - (hi0 - lo0)) <= limit and abs(0.5 * (lo + hi) - mid0) <= limit):
                 continue
             parents = tuple(sorted({(u.parent_part, u.anchor.parent) for u in used}))
             if not self.axis_keeps(part, axis, lo, hi, parents):
@@ -719,10 +724,13 @@ class _Generator:
     def axis_keeps(self, part: str, axis: int, lo: float, hi: float,
                    parents: Sequence[tuple[str, str]]) -> bool:
         """False when this interval breaks a preserved relation with a parent along ``axis``."""
+        pairs = self.ctx.preserved_pairs
+        if not pairs:  # relations by (part, other part), in the order of ctx.preserved
+            for me, rels in self.ctx.preserved.items():
+                for other, rel in rels:
+                    pairs.setdefault((me, other), []).append(rel)
         for ppart, pid in parents:
-            for other, rel in self.ctx.preserved.get(part, ()):
-                if other != ppart:
-                    continue
+            for rel in pairs.get((part, ppart), ()):
                 pbox = self.ctx.cands[pid].box
                 if rel.a == part:
                     ok = _relation_axis_holds(rel, axis, lo, hi, pbox[0][axis], pbox[1][axis])
