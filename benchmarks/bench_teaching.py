@@ -354,6 +354,20 @@ def pages_row(name: str, r: dict[str, Any]) -> str:
     return f"{name:<14} {r['round']:>5} {ell:>9} {back:>10} {hidden:>12}"
 
 
+def table(title: str, header: str, make_row: Any, results: dict[str, dict[str, Any]]) -> None:
+    """A second table: its title, header and one row per model that planned, then the rule
+    under which the caller prints its totals (when any model planned)."""
+    print()
+    print(title)
+    print(header)
+    print("-" * len(header))
+    ok = {name: r for name, r in results.items() if "error" not in r}
+    for name, r in ok.items():
+        print(make_row(name, r))
+    if ok:
+        print("-" * len(header))
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--models", help="comma-separated config names (e.g. camera,chair_ingolf)")
@@ -393,16 +407,9 @@ def main() -> None:
         print(f"{name:<14} FAILED: {r['error']}" if "error" in r else row(name, r), flush=True)
     print("-" * len(HEADER))
     print(totals(results))
-    print()
-    print("instructions")
-    print(HEADER_TEXT)
-    print("-" * len(HEADER_TEXT))
-    for name, r in results.items():
-        if "error" not in r:
-            print(text_row(name, r))
     ok = [r for r in results.values() if "error" not in r]
+    table("instructions", HEADER_TEXT, text_row, results)
     if ok:
-        print("-" * len(HEADER_TEXT))
         novice = [w for r in ok for w in r["words_novice"]]
         every = [w for r in ok for w in r["words_all"]]
         print(f"{'all':<14} models over the step limit: "
@@ -411,15 +418,8 @@ def main() -> None:
               f"{sum(w > 70 for w in novice)} of {len(novice)}; every level: median "
               f"{statistics.median(every):g}, max {max(every)}; steps naming an id: "
               f"{sum(r['id_name_steps'] for r in ok)}")
-    print()
-    print("pages")
-    print(HEADER_PAGES)
-    print("-" * len(HEADER_PAGES))
-    for name, r in results.items():
-        if "error" not in r:
-            print(pages_row(name, r))
+    table("pages", HEADER_PAGES, pages_row, results)
     if ok:
-        print("-" * len(HEADER_PAGES))
         total = {k: sum(r[k] for r in ok) for k in (
             "round", "ellipses_constructed", "ellipses_by_eye", "back_face", "face_anchors",
             "hidden_drawn", "hidden_anchors")}

@@ -424,11 +424,21 @@ def _axis_cost(orig: Box, axis: int, lo: float, hi: float, n_free_ends: int) -> 
     return d_len + d_mid + float(n_free_ends)
 
 
+def _change_terms(orig: Box, axis: int, max_change: float) -> tuple[float, float, float]:
+    """The per-part terms of :func:`_within_change`: the limit before rounding slack, the
+    input interval's length and midpoint."""
+    return max_change * _norm_length(orig, axis) * (1 + 1e-9), _extent(orig, axis), _mid(orig, axis)
+
+
+def _within(terms: tuple[float, float, float], lo: float, hi: float) -> bool:
+    """:func:`_within_change` from its per-part ``terms`` (:func:`_change_terms`)."""
+    base, length, mid = terms
+    limit = base + _EPS * max(1.0, abs(lo), abs(hi))
+    return abs((hi - lo) - length) <= limit and abs(0.5 * (lo + hi) - mid) <= limit
+
+
 def _within_change(orig: Box, axis: int, lo: float, hi: float, max_change: float) -> bool:
-    length = _norm_length(orig, axis)
-    limit = max_change * length * (1 + 1e-9) + _EPS * max(1.0, abs(lo), abs(hi))
-    return (abs((hi - lo) - _extent(orig, axis)) <= limit
-            and abs(0.5 * (lo + hi) - _mid(orig, axis)) <= limit)
+    return _within(_change_terms(orig, axis, max_change), lo, hi)
 
 
 def _centred_on(orig: Box, axis: int, centre: float, max_change: float) -> tuple[float, float]:
@@ -684,11 +694,10 @@ class _Generator:
             if los and his:
                 lv = np.array([o.value for o in los])[:, None]
                 hv = np.array([o.value for o in his])[None, :]
-                ln = _norm_length(orig, axis)
-                limit = mc * ln * (1 + 1e-9) + _EPS * np.maximum(
-                    1.0, np.maximum(np.abs(lv), np.abs(hv)))
-                near = ((np.abs((hv - lv) - (hi0 - lo0)) <= limit)
-                        & (np.abs(0.5 * (lv + hv) - _mid(orig, axis)) <= limit))
+                base, ext, mid = _change_terms(orig, axis, mc)
+                limit = base + _EPS * np.maximum(1.0, np.maximum(np.abs(lv), np.abs(hv)))
+                near = ((np.abs((hv - lv) - ext) <= limit)
+                        & (np.abs(0.5 * (lv + hv) - mid) <= limit))
                 for i, j in zip(*np.nonzero(near)):
                     lo_opt, hi_opt = los[i], his[j]
                     if (lo_opt.parent_part == hi_opt.parent_part
@@ -704,12 +713,9 @@ class _Generator:
             for opt in ends["mid"]:
                 raw.append((opt.value - 0.5 * length, opt.value + 0.5 * length, (opt,), 1))
         options: list[_AxisOption] = []
-        # _within_change, its per-part terms computed once (the same arithmetic)
-        lim0 = mc * _norm_length(orig, axis) * (1 + 1e-9)
-        mid0 = _mid(orig, axis)
+        terms = _change_terms(orig, axis, mc)  # once per part and axis
         for lo, hi, used, free in raw:
-            limit = lim0 + _EPS * max(1.0, abs(lo), abs(hi))
-            if not (abs((hi - lo) - (hi0 - lo0)) <= limit and abs(0.5 * (lo + hi) - mid0) <= limit):
+            if not _within(terms, lo, hi):
                 continue
             parents = tuple(sorted({(u.parent_part, u.anchor.parent) for u in used}))
             if not self.axis_keeps(part, axis, lo, hi, parents):

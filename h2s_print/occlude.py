@@ -33,25 +33,33 @@ class Solid:
     round: tuple[int, tuple[float, float], tuple[float, float]] | None = None
 
 
-def polyhedron(points: np.ndarray, faces: Sequence[Sequence[int]]) -> Solid:
-    """The convex polyhedron with these vertices and (planar) faces, normals pointing out."""
+def outward_normals(points: np.ndarray, faces: Sequence[Sequence[int]]
+                    ) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Per face of a convex solid: its normal by Newell's method (not normalised; zero for a
+    degenerate face), turned away from the vertices' centroid, and the face's centroid."""
     pts = np.asarray(points, dtype=float)
     centre = pts.mean(axis=0)
-    normals, offsets = [], []
+    out = []
     for f in faces:
         poly = pts[list(f)]
         n = np.zeros(3)
-        for i in range(len(poly)):  # Newell's method
+        for i in range(len(poly)):
             n += np.cross(poly[i], poly[(i + 1) % len(poly)])
+        fc = poly.mean(axis=0)
+        out.append((-n if np.dot(n, fc - centre) < 0 else n, fc))
+    return out
+
+
+def polyhedron(points: np.ndarray, faces: Sequence[Sequence[int]]) -> Solid:
+    """The convex polyhedron with these vertices and (planar) faces, normals pointing out."""
+    normals, offsets = [], []
+    for n, fc in outward_normals(points, faces):
         length = float(np.linalg.norm(n))
         if length == 0.0:
             continue
-        n /= length
-        c = float(n @ poly.mean(axis=0))
-        if n @ centre > c:  # pointing in: flip
-            n, c = -n, -c
+        n = n / length
         normals.append(n)
-        offsets.append(c)
+        offsets.append(float(n @ fc))
     return Solid(np.array(normals).reshape(-1, 3), np.array(offsets))
 
 

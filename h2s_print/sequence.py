@@ -159,7 +159,8 @@ from .constructions import Face, align, construct, ellipse_on_face
 from .contours import adjust_part, final_contours, occlusion_test, trace_contours
 from .errors import SelectionError
 from .names import PartName, display_names, natural_key
-from .occlude import Solid, box_solid, cylinder_solid, hidden, polyhedron, runs
+from .occlude import (Solid, box_solid, cylinder_solid, hidden, outward_normals, polyhedron,
+                      runs)
 from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, points_key, spec,
                            unique_specs)
 from .order import drawing_order, part_size, start_part
@@ -535,19 +536,9 @@ def _scaffold(part: str, primitive: Any, box: Box, camera: Camera, tol: float) -
     """The primitive's edges as strokes: ``scaffold`` when an adjacent face is front-facing,
     else ``scaffold_hidden`` (see the module docstring)."""
     pts, faces, flat = _solid(primitive, box)
-    centre = pts.mean(axis=0)
     cam = np.asarray(camera.position, dtype=float)
-    front: list[bool] = []
-    for f in faces:
-        poly = pts[list(f)]
-        normal = np.zeros(3)
-        for i in range(len(poly)):  # Newell's method
-            a, b = poly[i], poly[(i + 1) % len(poly)]
-            normal += np.cross(a, b)
-        fc = poly.mean(axis=0)
-        if np.dot(normal, fc - centre) < 0:
-            normal = -normal
-        front.append(bool(np.dot(normal, cam - fc) > 0) and float(np.linalg.norm(normal)) > 0)
+    front = [bool(np.dot(n, cam - fc) > 0) and float(np.linalg.norm(n)) > 0
+             for n, fc in outward_normals(pts, faces)]
     edges: dict[tuple[int, int], bool] = {}
     for f, fr in zip(faces, front):
         for i in range(len(f)):
@@ -695,20 +686,18 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
 
 
 def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
-    """Consecutive drafts two to a step (the outlines, the ellipses of several parts): a
-    drawing teacher does not give each small part a page of its own.  Ellipse drafts pair only
-    when their sub-steps are the same (the same vanishing points)."""
+    """Consecutive outline drafts two to a step: a drawing teacher does not give each small
+    part a page of its own."""
     out: list[_Draft] = []
     single = True
     for d in drafts:
         prev = out[-1] if out else None
-        if (prev is not None and single and prev.kind == d.kind
-                and (d.kind != "ellipse" or prev.specs == d.specs)):
+        if prev is not None and single and prev.kind == d.kind:
             members = prev.group + d.group
             both = list(prev.specs) + list(d.specs)
-            if d.kind == "contour":  # small ellipses first, then one tracing sub-step
-                both = ([x for x in both if not x.key.startswith("contour")]
-                        + [x for x in both if x.key.startswith("contour")][:1])
+            # small ellipses first, then one tracing sub-step
+            both = ([x for x in both if not x.key.startswith("contour")]
+                    + [x for x in both if x.key.startswith("contour")][:1])
             out[-1] = replace(prev, strokes=prev.strokes + d.strokes, lines=prev.lines + d.lines,
                               specs=tuple(unique_specs(both)),
                               eyeball=prev.eyeball or d.eyeball, group=members)
@@ -1390,27 +1379,27 @@ class _Context:
         members = [(part, box), *copies]
         names = sorted((self.say(q) for q, _ in members), key=natural_key)
         who = _cap(_join(names))
-        near: list[tuple[str, Any]] = []
-        far: list[tuple[str, Any, Any]] = []
+        # per copy: its near ellipse and (a cylinder) its far one
+        ends: list[tuple[str, Any, Any]] = []
         for q, b in members:
             if prim.type == "plane":  # a round plate: its ellipse in the rectangle drawn
                 mid = 0.5 * (b[0][axis] + b[1][axis])
                 lo, hi = list(b[0]), list(b[1])
                 lo[axis] = hi[axis] = mid
-                near.append((q, ellipse_on_face(Face((tuple(lo), tuple(hi)), axis, "lo"),
-                                                self.camera)))
+                ends.append((q, ellipse_on_face(Face((tuple(lo), tuple(hi)), axis, "lo"),
+                                                self.camera), None))
                 continue
-            ends = sorted((Face(b, axis, "lo"), Face(b, axis, "hi")),
-                          key=lambda f: (not _front_facing(f, self.camera), f.end))
-            fe = ellipse_on_face(ends[0], self.camera)
-            near.append((q, fe))
-            far.append((q, fe, ellipse_on_face(ends[1], self.camera)))
+            faces = sorted((Face(b, axis, "lo"), Face(b, axis, "hi")),
+                           key=lambda f: (not _front_facing(f, self.camera), f.end))
+            ends.append((q, ellipse_on_face(faces[0], self.camera),
+                         ellipse_on_face(faces[1], self.camera)))
         one = not copies
         # the construction is shown on the copy whose near face the picture shows largest
-        show = max(range(len(near)), key=lambda k: (
-            _polygon_area_mm2(self.camera, near[k][1].face.corners), -k))
-        near = [near[show]] + near[:show] + near[show + 1:]
-        far = ([f for f in far if f[0] == near[0][0]] + [f for f in far if f[0] != near[0][0]])
+        show = max(range(len(ends)), key=lambda k: (
+            _polygon_area_mm2(self.camera, ends[k][1].face.corners), -k))
+        ends.insert(0, ends.pop(show))
+        near = [(q, fe) for q, fe, _ in ends]
+        far = [(q, fe, be) for q, fe, be in ends if be is not None]
         if basic or _too_small(self.camera, near[0][1].face.corners, 4,
                                self.settings.eyeball_mm2):
             head = _t("headline.ellipse_eyeball" if one else "headline.ellipse_many_eyeball",
@@ -1768,8 +1757,7 @@ def sequence_views(plan: Any, view: ViewSpec, levels: Sequence[str], paper: Pape
         SelectionError: the selected candidates' anchoring graph has a cycle.
         ConfigError: the view cannot see the model.
     """
-    ctx = _context(plan, view, paper, settings)
-    return tuple(ctx.view_plan(view.name, level, paper) for level in levels)
+    return tuple(vp for vp, _ in sequence_workbooks(plan, view, levels, paper, settings))
 
 
 def sequence_workbooks(plan: Any, view: ViewSpec, levels: Sequence[str], paper: PaperSpec,
@@ -1781,10 +1769,9 @@ def sequence_workbooks(plan: Any, view: ViewSpec, levels: Sequence[str], paper: 
     ctx = _context(plan, view, paper, settings)
     out = []
     for level in levels:
-        parts = ctx.originals if level == "basic" else ctx.adjusted
-        finals = ctx.finals(parts)
-        out.append((ctx.view_plan(view.name, level, paper),
-                    tuple(st for p in plan.model.parts for st in finals[p.name])))
+        vp = ctx.view_plan(view.name, level, paper)  # (an unknown level fails here, first)
+        finals = ctx.finals(ctx.originals if level == "basic" else ctx.adjusted)
+        out.append((vp, tuple(st for p in plan.model.parts for st in finals[p.name])))
     return tuple(out)
 
 
