@@ -112,7 +112,7 @@ def unique_specs(specs: Sequence[Spec], plural: Callable[[str], str] = lambda k:
         for name, value in first.fields:
             other = mine.get(name, value)
             if other != value and isinstance(value, (Pts, Many)) and isinstance(other, (Pts, Many)):
-                value = Many(_runs(value) + _runs(other))
+                value = Many(line_runs(value) + line_runs(other))
             fields.append((name, value))
         out[twin] = Spec(plural(first.key), tuple(fields), first.same, ())
     return out
@@ -197,7 +197,8 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
     return out
 
 
-def _runs(value: Pts | Many) -> tuple[Pts, ...]:
+def line_runs(value: Pts | Many) -> tuple[Pts, ...]:
+    """The runs of points a field names: one for :class:`Pts`, each item of :class:`Many`."""
     return value.items if isinstance(value, Many) else (value,)
 
 

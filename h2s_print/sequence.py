@@ -161,8 +161,8 @@ from .errors import SelectionError
 from .names import PartName, display_names, natural_key
 from .occlude import (Solid, box_solid, cylinder_solid, hidden, outward_normals, polyhedron,
                       runs)
-from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, points_key, spec,
-                           unique_specs)
+from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, line_runs,
+                           points_key, spec, unique_specs)
 from .order import drawing_order, part_size, start_part
 from .project import make_camera, vanishing_points, vp_side
 from .ratios import entry_for
@@ -173,6 +173,8 @@ log = logging.getLogger(__name__)
 #: A step's text (headline and numbered sub-steps) longer than this many words is split: its
 #: constructions go to steps of their own (kind ``guides``) before the part's step.
 MAX_STEP_WORDS = 70
+#: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
+_CITES = ("reuse", "edge", "edge_two")
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
 #: fraction (and their primitive types and triangle counts are equal): drawn as one step.
 REPEAT_TOL = 0.02
@@ -1042,7 +1044,31 @@ class _Context:
         (:func:`h2s_print.instructions.unique_specs`), lines from earlier steps first (so no
         point is used before a sub-step names it); lettered later (:meth:`letter`)."""
         ordered = sorted(specs, key=lambda x: x.key not in ("reuse", "box_reuse"))
-        return tuple(unique_specs(ordered, _plural))
+        return tuple(self.uncited(unique_specs(ordered, _plural)))
+
+    def uncited(self, specs: Sequence[Spec]) -> list[Spec]:
+        """``specs`` without citing a line that a later sub-step of the step names: "Use KL
+        from step 2" or "Use the edge KL" before "Carry KL to the grip" only repeated KL,
+        which the picture shows as used again (issue 11: one sub-step per construction).  A
+        citation keeps the lines no later sub-step names."""
+        out: list[Spec] = []
+        for i, s in enumerate(specs):
+            if s.key in _CITES:
+                later = [run.points for x in specs[i + 1:] if x.key not in _CITES
+                         for _, v in x.fields if isinstance(v, (Pts, Many))
+                         for run in line_runs(v) if len(run.points) == 2]
+                f = dict(s.fields)
+                runs = line_runs(f["line"])
+                left = tuple(r for r in runs if not any(
+                    _same_segment(r.points[0], r.points[1], p, q, self.tol) for p, q in later))
+                if not left:
+                    continue
+                if len(left) < len(runs):
+                    f["line"] = left[0] if len(left) == 1 else Many(left)
+                    key = "edge" if s.key == "edge_two" and len(left) == 1 else s.key
+                    s = spec(key, s.same, s.pair, **f)
+            out.append(s)
+        return out
 
     def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
         """The drafts with their sub-steps formatted and their points lettered, the whole
@@ -1066,8 +1092,8 @@ class _Context:
         name = self.say(part)
         note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:
-            subs = self.lettered([spec("first_edges"), spec("first_corners"),
-                                  spec("first_footprint"), *repeat])
+            subs = self.lettered([spec("first_footprint"), spec("first_edges"),
+                                  spec("first_corners"), *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
@@ -1617,7 +1643,7 @@ class _Context:
                 shape = self.words.shape(prim.type)
                 head = _t("headline.first" if i == 0 else "headline.basic",
                           Part=_cap(self.say(p)), shape=shape)
-                subs = ((spec("first_edges"), spec("first_corners"), spec("first_footprint"))
+                subs = ((spec("first_footprint"), spec("first_edges"), spec("first_corners"))
                         if i == 0 else (spec("basic_part"),))
                 drafts.append(_Draft(p, "basic", True, (),
                                      _scaffold(p, prim, prim.box, self.camera, self.tol),

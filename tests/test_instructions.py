@@ -210,9 +210,32 @@ def test_a_step_stays_short_and_a_master_reads_headline_and_ratio_words(examples
                     if s.kind == "guides":
                         assert not any(x.startswith("Use ") for x in s.substeps), s.substeps
                     else:
-                        assert all(re.match(r"(Use [A-Z',]|Carry |Centre |Draw its |Keep its |Its |"
+                        assert all(re.match(r"(Use [A-Z',]|Carry |Centre |Draw the |Keep its |Its |"
                                             r"[A-Z][a-z]+ \d+|[A-Z][a-z ]+: the same)", x)
                                    for x in s.substeps), (name, s.index, s.substeps)
+
+
+def test_a_line_is_not_cited_when_a_later_sub_step_names_it(examples):
+    """"Use KL from step 2" or "Use the edge KL" before "Carry KL to the grip" only repeats
+    KL (the picture shows it used again): such a citation is left out."""
+    cited = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for s in vp.steps:
+                for i, x in enumerate(s.substeps):
+                    m = re.match(r"Use (?:the edges? )?([A-Z', and]+?)(?: from steps? [\d, and]+)?\.$",
+                                 x)
+                    if not m:
+                        continue
+                    cited += 1
+                    later = " ".join(s.substeps[i + 1:])
+                    for line in re.split(r", | and ", m.group(1)):
+                        a, b = re.findall(r"[A-Z]'*", line)
+                        assert not re.search(rf"(?<![A-Z']){a}{b}(?!')|(?<![A-Z']){b}{a}(?!')",
+                                             later), (name, view, s.index, x, later)
+    assert cited > 10
 
 
 def test_identical_parts_are_one_step_that_draws_every_instance_box(examples):
