@@ -65,10 +65,47 @@ def main() -> None:
         "page-contents": lay_out_book("Sketching everyday objects",
                                       [(f"{tutorial.title} > {view.name} > {view.level}", pages)])[1],
     }
+    wanted["page-step-spacing"] = _spacing_page()
     for name, page in wanted.items():
         path = ROOT / "docs" / f"{name}.png"
         path.write_bytes(render_png(page, dpi=DPI))
         print(path.relative_to(ROOT))
+
+
+def _spacing_page():
+    """The equal-spacing step of a generated model: four identical knobs, evenly spaced, on
+    a base (made here, like the examples, by the project's own code)."""
+    import tempfile
+
+    import numpy as np
+    import trimesh
+
+    from h2s_print.config import ModelSpec, PaperSpec, SequenceSettings, SolverSettings, ViewSpec
+    from h2s_print.plan import build_plan
+    from h2s_print.sequence import sequence_view
+
+    scene = trimesh.Scene()
+    base = trimesh.creation.box((400.0, 200.0, 40.0))
+    knob = trimesh.creation.box((40.0, 30.0, 60.0))
+    to_gltf = trimesh.transformations.rotation_matrix(-np.pi / 2, [1, 0, 0])  # z-up -> y-up
+    scene.add_geometry(base, node_name="base", geom_name="base",
+                       transform=to_gltf @ trimesh.transformations.translation_matrix((0, 0, 20)))
+    for i, x in enumerate((-170.0, -90.0, -10.0, 70.0)):
+        scene.add_geometry(knob, node_name=f"knob_{i + 1}", geom_name="knob",
+                           transform=to_gltf @ trimesh.transformations.translation_matrix(
+                               (x, 0.0, 70.0)))
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "knobs.glb"
+        scene.export(path)
+        plan = build_plan(ModelSpec(path, units="mm"), SolverSettings())
+    view = ViewSpec("front-left", azimuth_deg=-35.0, elevation_deg=25.0, distance=3.0,
+                    lens_mm=50.0, perspective="two-point")
+    paper = PaperSpec("A4", "landscape", 12.0)
+    vp = sequence_view(plan, view, "novice", paper, SequenceSettings())
+    pages = [p for p in lay_out_workbook("A row of knobs", vp, paper, view_label=view.name)
+             if p.kind == "steps"]
+    last = max(k for k, st in enumerate(vp.steps) if st.kind == "primitive")
+    return pages[last]  # knobs 3 and 4, spaced like knobs 1 and 2
 
 
 if __name__ == "__main__":

@@ -420,6 +420,123 @@ def align(start: Any, end: Any, *, tol: float = 1e-9) -> ConstructionLine:
                             (float(b[0]), float(b[1]), float(b[2])), moving[0])
 
 
+# ----------------------------------------------------------------------------- equal spacing
+
+
+@dataclass(frozen=True, slots=True)
+class SpacedEnd:
+    """One end of a box placed by equal spacing: the line from the end two boxes back (at the
+    face's ``across`` top), through the end one box back (on the middle line), meets the
+    row's bottom line where this end lies.
+
+    Attributes:
+        start, through, end: the line's end points and the point it passes through, model
+            units; ``end`` is the constructed end (exactly ``2 e(k-1) - e(k-2)`` along the row).
+        edge: the resulting line, the box's edge through ``end`` across the row (role guide).
+    """
+
+    start: Vec3
+    through: Vec3
+    end: Vec3
+    edge: ConstructionLine
+
+
+@dataclass(frozen=True, slots=True)
+class Spacing:
+    """Boxes repeated at equal spacing along a row, in one face plane (paper Fig. 3d's
+    "extend by 1x", repeated: the spacing of two boxes carried to the next).
+
+    The first box's face gets its diagonals, crossing at ``centre``; the line through the
+    centre along the row is the row's *middle line*, and the row's top and bottom edge lines
+    run along it.  A box ``k >= 2`` is placed from boxes ``k - 2`` and ``k - 1``: for each of
+    its two ends, a line from the end of box ``k - 2`` on the top line, through the same end of
+    box ``k - 1`` on the middle line, meets the bottom line at the end of box ``k``.  It is
+    exact because those three points are collinear in 3D exactly when the spacing is equal
+    (the middle line is halfway between top and bottom), and projection keeps lines straight.
+
+    Attributes:
+        face: the first box's face (plane and across extent shared by the row).
+        axis: the row's axis (an in-face axis of ``face``); ``across`` the other in-face axis.
+        diagonals: ``((A, C), (B, D))``: the first face's diagonals (role construction).
+        centre: where they cross.
+        middle, top, bottom: the row's middle line (construction) and its top and bottom edge
+            lines (guide), from the first box's ``lo`` to the last box's ``hi`` along ``axis``.
+        ends: per placed box (``k = 2, 3 ...``), its ``(lo, hi)`` :class:`SpacedEnd`.
+    """
+
+    face: Face
+    axis: int
+    across: int
+    diagonals: tuple[tuple[Vec3, Vec3], tuple[Vec3, Vec3]]
+    centre: Vec3
+    middle: ConstructionLine
+    top: ConstructionLine
+    bottom: ConstructionLine
+    ends: tuple[tuple[SpacedEnd, SpacedEnd], ...]
+
+    @property
+    def lines(self) -> tuple[ConstructionLine, ...]:
+        """Every line drawn, in order: diagonals, middle, top, bottom, then per placed box its
+        two spacing lines (construction) and two edges (guide)."""
+        (a, c), (b, d) = self.diagonals
+        out = [ConstructionLine("diagonal", "construction", a, c),
+               ConstructionLine("diagonal", "construction", b, d),
+               self.middle, self.top, self.bottom]
+        for pair in self.ends:
+            out += [ConstructionLine("connect", "construction", e.start, e.end) for e in pair]
+            out += [e.edge for e in pair]
+        return tuple(out)
+
+
+def equal_spacing(face: Face, axis: int, intervals: Any) -> Spacing:
+    """The equal-spacing construction (:class:`Spacing`) of a row of boxes.
+
+    Args:
+        face: a face of the row's first box whose in-face axes include ``axis``.
+        axis: the row's axis.
+        intervals: ``(lo, hi)`` of each box along ``axis``, in row order (at least 3); the
+            spacing from one box to the next must be the same for the construction to land
+            on the boxes (it lands at ``2 e(k-1) - e(k-2)`` whatever they are).
+
+    Raises:
+        ValueError: ``axis`` is not in the face, or fewer than 3 intervals.
+    """
+    if axis not in face.in_axes:
+        raise ValueError(f"axis {axis} does not lie in a face normal to {face.normal}")
+    iv = [(float(lo), float(hi)) for lo, hi in intervals]
+    if len(iv) < 3:
+        raise ValueError(f"equal spacing needs at least 3 boxes, got {len(iv)}")
+    across = next(a for a in face.in_axes if a != axis)
+    b_lo, b_hi = face.box[0][across], face.box[1][across]
+    b_mid = 0.5 * (b_lo + b_hi)
+
+    def at(x: float, y: float) -> Vec3:
+        p = [0.0, 0.0, 0.0]
+        p[face.normal], p[axis], p[across] = face.coord, x, y
+        return (p[0], p[1], p[2])
+
+    first, last = iv[0][0], iv[-1][1]
+    a, b, c, d = face.corners
+    ends = []
+    for k in range(2, len(iv)):
+        pair = []
+        for e in (0, 1):
+            x2, x1 = iv[k - 2][e], iv[k - 1][e]
+            x = 2.0 * x1 - x2
+            pair.append(SpacedEnd(at(x2, b_hi), at(x1, b_mid), at(x, b_lo),
+                                  ConstructionLine("division", "guide", at(x, b_lo),
+                                                   at(x, b_hi), across)))
+        ends.append((pair[0], pair[1]))
+    return Spacing(face=face, axis=axis, across=across, diagonals=((a, c), (b, d)),
+                   centre=face.centre,
+                   middle=ConstructionLine("cross", "construction", at(first, b_mid),
+                                           at(last, b_mid), axis),
+                   top=ConstructionLine("align", "guide", at(first, b_hi), at(last, b_hi), axis),
+                   bottom=ConstructionLine("align", "guide", at(first, b_lo), at(last, b_lo),
+                                           axis),
+                   ends=tuple(ends))
+
+
 # ----------------------------------------------------------------------------- ellipses
 
 

@@ -155,7 +155,7 @@ import numpy as np
 
 from . import templates
 from .config import PaperSpec, SequenceSettings, ViewSpec
-from .constructions import Face, align, construct, ellipse_on_face
+from .constructions import Face, align, construct, ellipse_on_face, equal_spacing
 from .contours import adjust_part, final_contours, occlusion_test, trace_contours
 from .errors import SelectionError
 from .names import PartName, display_names, natural_key
@@ -181,6 +181,10 @@ REPEAT_TOL = 0.02
 #: A copy's position is said in ratio words up to this many words; longer, it is placed as the
 #: picture shows it (the words would outweigh the drawing).
 REPEAT_WHERE_WORDS = 16
+#: Identical parts form an equally spaced row (:meth:`_Context.spaced_rows`) when their steps
+#: along the row agree within this fraction of the step, and their other intervals within this
+#: fraction of a part's largest extent.
+SPACING_TOL = 0.005
 #: Lines whose end points agree within this fraction of the model's diagonal are one guide.
 MERGE_TOL = 1e-6
 #: Closed contour loops smaller than this on the sheet (largest side of their extent, mm) are
@@ -1542,6 +1546,8 @@ class _Context:
     def same_sentence(self, members: Sequence[str], shape: str, keep: set[str]) -> list[Spec]:
         """"Knob 2 and knob 3: the same box, its back in line with the body's front." for the
         group's other members, those placed alike said together (:meth:`copy_places`)."""
+        if not members:
+            return []
         places = self.copy_places(members, keep)
         by_where: dict[str, list[str]] = {}
         for q in sorted(members, key=lambda q: natural_key(self.say(q))):
@@ -1553,6 +1559,127 @@ class _Context:
                        else spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
                                  shape=shape))
         return out
+
+    def spaced_rows(self, group: Sequence[str], boxes: dict[str, Box]) -> list[list[str]]:
+        """Rows of identical parts at equal spacing, each to be placed by the equal-spacing
+        construction (:func:`h2s_print.constructions.equal_spacing`) from its first two.
+
+        A row is 3 or more of the group's parts with the same intervals on two axes and, along
+        the third, the same step from one to the next (within :data:`SPACING_TOL`), no two
+        overlapping.  The group's first part (constructed from its parents) starts its row:
+        when it lies inside one, the row is split there and each side runs away from it.
+        Rows are taken longest first, a part in one row only.  A row whose faces the view
+        shows edge-on or too small for its lines (the eyeball rule) is left to the copies'
+        sentences ("the same box, where the picture shows it")."""
+        if len(group) < 3:
+            return []
+        free = list(group)
+        rows: list[list[str]] = []
+        while True:
+            found = [r for axis in range(3) for r in self._runs(free, boxes, axis)]
+            found = [r for r in found if self._spacing_face(r, boxes) is not None]
+            if not found:
+                return rows
+            best = max(found, key=lambda r: (len(r), [-group.index(q) for q in r]))
+            rows.append(best)
+            free = [q for q in free if q not in best[2:]]
+
+    def _runs(self, members: Sequence[str], boxes: dict[str, Box], axis: int
+              ) -> list[list[str]]:
+        """Equally spaced runs of ``members`` along ``axis`` (:meth:`spaced_rows`), each
+        starting from the group's first part when it holds it."""
+        others = [a for a in range(3) if a != axis]
+        lines: list[list[str]] = []
+        for q in members:  # parts on one line along ``axis``
+            box = boxes[q]
+            tol = SPACING_TOL * max(_extent(box, a) for a in range(3))
+            for line in lines:
+                ref = boxes[line[0]]
+                if all(abs(box[e][a] - ref[e][a]) <= tol for a in others for e in (0, 1)):
+                    line.append(q)
+                    break
+            else:
+                lines.append([q])
+        lead = members[0] if members else None
+        out: list[list[str]] = []
+        for line in lines:
+            line.sort(key=lambda q: boxes[q][0][axis])
+            lo = [boxes[q][0][axis] for q in line]
+            length = _extent(boxes[line[0]], axis)
+            i = 0
+            while i + 2 < len(line):
+                step = lo[i + 1] - lo[i]
+                j = i + 1
+                if step > 0 and step >= length * (1 - SPACING_TOL):  # apart, not overlapping
+                    while j + 1 < len(line) and abs(lo[j + 1] - lo[j] - step) <= SPACING_TOL * step:
+                        j += 1
+                run = line[i:j + 1]
+                if len(run) >= 3:
+                    k = run.index(lead) if lead in run else 0
+                    if k >= 2:  # the group's first part inside: each side runs away from it
+                        out += [r for r in (run[:k + 1][::-1], run[k:]) if len(r) >= 3]
+                    else:
+                        out.append(run)
+                i = j
+        return out
+
+    def _spacing_face(self, row: Sequence[str], boxes: dict[str, Box]) -> Face | None:
+        """The face of the row's first part the construction is drawn on: turned toward the
+        camera, containing the row's axis, the largest on the sheet; None when every such face
+        (or the row's whole band) is too small for its lines under the eyeball rule."""
+        first, second = boxes[row[0]], boxes[row[1]]
+        axis = max(range(3), key=lambda a: abs(second[0][a] - first[0][a]))
+        lo = [min(boxes[q][0][a] for q in row) for a in range(3)]
+        hi = [max(boxes[q][1][a] for q in row) for a in range(3)]
+        n_lines = 3 + 2 * (len(row) - 2)
+        best: tuple[float, Face] | None = None
+        for normal in (a for a in range(3) if a != axis):
+            for end in ("lo", "hi"):
+                face = Face(first, normal, end)
+                if not _front_facing(face, self.camera):
+                    continue
+                band = Face((tuple(lo), tuple(hi)), normal, end)
+                if (_too_small(self.camera, face.corners, 3, self.settings.eyeball_mm2)
+                        or _too_small(self.camera, band.corners, n_lines,
+                                      self.settings.eyeball_mm2)):
+                    continue
+                area = _polygon_area_mm2(self.camera, face.corners)
+                if best is None or area > best[0]:
+                    best = (area, face)
+        return None if best is None else best[1]
+
+    def spacing_draft(self, row: Sequence[str], boxes: dict[str, Box], shape: str) -> _Draft:
+        """The step placing a row's parts after its first two by equal spacing
+        (:class:`h2s_print.constructions.Spacing`): its sub-steps, lines and the parts' boxes."""
+        face = self._spacing_face(row, boxes)
+        assert face is not None  # spaced_rows keeps only rows with a face
+        first, second = boxes[row[0]], boxes[row[1]]
+        axis = max(range(3), key=lambda a: abs(second[0][a] - first[0][a]))
+        sp = equal_spacing(face, axis, [(boxes[q][0][axis], boxes[q][1][axis]) for q in row])
+        (a, c), (b, d) = sp.diagonals
+        placed = [self.say(q) for q in row[2:]]
+        specs = [spec("diagonals", first=Pts((a, c)), second=Pts((b, d)),
+                      point=Pts((sp.centre,)), parent=self.say(row[0]),
+                      face=self.words.face(face.normal, face.end)),
+                 spec("through", point=Pts((sp.centre,)),
+                      line=Pts((sp.middle.start, sp.middle.end)), vp=self.words.vp(axis)),
+                 spec("row_edges", lines=Many((Pts((sp.top.start, sp.top.end)),
+                                               Pts((sp.bottom.start, sp.bottom.end)))),
+                      vp=self.words.vp(axis))]
+        for q, (lo_end, hi_end) in zip(row[2:], sp.ends):
+            specs.append(spec("space", lines=Many((Pts((lo_end.start, lo_end.end)),
+                                                   Pts((hi_end.start, hi_end.end)))),
+                              points=Many((Pts((lo_end.through,)), Pts((hi_end.through,)))),
+                              part=self.say(q)))
+        specs.append(spec("space_place", parts=_join(placed), shape=shape))
+        pair = _join([self.say(q) for q in row[:2]])
+        strokes = tuple(st for q in row[2:] for st in _scaffold(
+            q, self.plan.primitive(q), boxes[q], self.camera, self.tol))
+        return _Draft(row[2], "primitive", False,
+                      tuple(_Line(ln.role, ln.start, ln.end) for ln in sp.lines), strokes,
+                      _t("headline.spaced", Parts=_cap(_join(placed)), shape=shape, first=pair),
+                      self.lettered(specs), _t("substep.space_summary", first=pair),
+                      group=tuple(row[2:]))
 
     def merge_group(self, first: _Draft, members: Sequence[str], extra: Sequence[_Draft],
                     sentences: Sequence[Spec]) -> _Draft:
@@ -1574,14 +1701,18 @@ class _Context:
             for gi, group in enumerate(groups):
                 p = group[0]
                 shape = self.words.shape(self.plan.primitive(p).type)
-                repeat = self.same_sentence(group[1:], shape, keep) if len(group) > 1 else []
+                rows = self.spaced_rows(group, boxes)
+                spaced = {q for row in rows for q in row[2:]}
+                rest = [q for q in group[1:] if q not in spaced]
+                repeat = self.same_sentence(rest, shape, keep)
                 made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
                                              repeat=repeat)
-                if len(group) > 1:
+                if rest:
                     others = [_Draft(q, "primitive", False, (),
                                      _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
-                                               self.tol), "") for q in group[1:]]
-                    made[-1] = self.merge_group(made[-1], group, others, repeat)
+                                               self.tol), "") for q in rest]
+                    made[-1] = self.merge_group(made[-1], [p, *rest], others, repeat)
+                made += [self.spacing_draft(row, boxes, shape) for row in rows]
                 for k, d in enumerate(made):  # lines a later step may say "use" of
                     self._drawn.extend((ln.start, ln.end, len(drafts) + 1 + k) for ln in d.lines)
                 drafts += made

@@ -15,7 +15,7 @@ import pytest
 
 from h2s_print.config import PaperSpec, ViewSpec
 from h2s_print.constructions import (GUIDE_LINES, RATIOS, Face, align, box_faces, construct,
-                                     ellipse_on_face, guide_lines, ratio_key)
+                                     ellipse_on_face, equal_spacing, guide_lines, ratio_key)
 from h2s_print.errors import RenderError
 from h2s_print.project import make_camera
 
@@ -421,3 +421,63 @@ def test_ellipse_behind_the_camera_is_an_error():
     behind = Face(((0.0, -100.0, 0.0), (1.0, -99.0, 1.0)), 2, "hi")  # far behind, at y = -100
     with pytest.raises(RenderError, match="behind"):
         ellipse_on_face(behind, cam)
+
+
+# ----------------------------------------------------------------------------- equal spacing
+
+
+@pytest.mark.parametrize("view,face,axis", SETUPS[:12])
+@pytest.mark.parametrize("gap", [0.0, 0.35, 1.5])
+def test_equal_spacing_redone_on_paper_lands_on_each_next_box(view, face, axis, gap):
+    """Boxes 2, 3 ... of a row at equal spacing, placed with a ruler from the two before: on
+    paper, the line from the end of box k-2 on the top line through the end of box k-1 on the
+    middle line (the line through the first face's diagonal crossing toward the row's
+    vanishing point) meets the bottom line at the projected end of box k (0.05 mm)."""
+    lo, hi = face.box
+    length = hi[axis] - lo[axis]
+    step = length * (1 + gap)
+    row = [(lo[axis] + k * step, hi[axis] + k * step) for k in range(4)]
+    sp = equal_spacing(face, axis, row)
+    across = sp.across
+    span = list(map(list, face.box))
+    span[1][axis] = row[-1][1]
+    cam = _camera_for(view, Face((tuple(span[0]), tuple(span[1])), face.normal, face.end))
+
+    def at(x, y):  # a point of the face plane, projected, homogeneous
+        p = [0.0, 0.0, 0.0]
+        p[face.normal], p[axis], p[across] = face.coord, x, y
+        return _h(cam.project([p])[0])
+
+    b_lo, b_hi = lo[across], hi[across]
+    # the middle line, redone: diagonals of the first face, then toward the row's vanishing point
+    a2, b2, c2, d2 = (at(row[0][0], b_lo), at(row[0][1], b_lo), at(row[0][1], b_hi),
+                      at(row[0][0], b_hi))
+    centre = np.cross(_join(a2, c2), _join(b2, d2))
+    bottom, top = _join(a2, b2), _join(d2, c2)
+    middle = _join(centre, np.cross(bottom, top))
+    for k in range(2, 4):
+        for e in (0, 1):
+            start = at(row[k - 2][e], b_hi)
+            edge = _join(at(row[k - 1][e], b_lo), at(row[k - 1][e], b_hi))
+            through = np.cross(middle, edge)
+            got = _pt(np.cross(_join(start, through), bottom))
+            want = _pt(at(row[k][e], b_lo))
+            assert math.dist(got, want) < TOL_MM, (k, e)
+            # and the construction's own 3D points are those
+            end = sp.ends[k - 2][e]
+            assert np.allclose(end.end, [face.coord if i == face.normal else
+                                         row[k][e] if i == axis else b_lo for i in range(3)])
+            assert math.dist(_pt(_h(cam.project([end.through])[0])), _pt(through)) < TOL_MM
+    assert len(sp.lines) == 5 + 4 * 2
+
+
+def test_equal_spacing_lands_where_the_spacing_says_even_when_it_is_uneven():
+    """The construction is exact geometry, not a fit: with uneven boxes its end is
+    2 e(k-1) - e(k-2), which is why the sequence stage only uses it on even rows."""
+    face = Face(BOX, 1, "lo")
+    sp = equal_spacing(face, 0, [(1.0, 5.0), (7.0, 11.0), (100.0, 104.0)])
+    assert sp.ends[0][0].end[0] == 13.0 and sp.ends[0][1].end[0] == 17.0
+    with pytest.raises(ValueError):
+        equal_spacing(face, 1, [(1.0, 5.0)] * 3)  # axis 1 is the face's normal
+    with pytest.raises(ValueError):
+        equal_spacing(face, 0, [(1.0, 5.0), (7.0, 11.0)])

@@ -496,3 +496,78 @@ def test_round_parts_get_round_primitives_and_constructed_ellipses(tmp_path, kin
             r = np.hypot((pts[:, u] - centre[u]) / (0.5 * (hi[u] - lo[u])),
                          (pts[:, v] - centre[v]) / (0.5 * (hi[v] - lo[v])))
             assert np.allclose(r, 1.0)  # inscribed: touching the face's four edges
+
+
+# ----------------------------------------------------------------------------- equal spacing
+
+
+def _knob_row(tmp_path, xs):
+    """A 400 x 200 x 40 mm base with identical 40 x 30 x 60 knobs (instances of one mesh) on
+    top, their left sides at ``xs``; planned and sequenced (novice, front-left)."""
+    from _meshfiles import box, write_glb
+    from h2s_print.config import ModelSpec, PaperSpec, SequenceSettings, SolverSettings, ViewSpec
+
+    def gl(v):
+        return np.asarray(v, float)[:, [0, 2, 1]] * (1, 1, -1)  # z-up -> glTF y-up
+
+    bv, bf = box((-200, -100, 0), (200, 100, 40))
+    kv, kf = box((0, -15, 0), (40, 15, 60))
+    nodes = [{"name": "base", "mesh": 0}] + [
+        {"name": f"knob_{i + 1}", "mesh": 1, "translation": [float(x), 40.0, 0.0]}
+        for i, x in enumerate(xs)]
+    path = write_glb(tmp_path / "row.glb", [("base", gl(bv), bf), ("knob", gl(kv), kf)], nodes,
+                     scene_extras={"units": "mm"})
+    plan = build_plan(ModelSpec(path), SolverSettings())
+    view = ViewSpec("front-left", azimuth_deg=-35.0, elevation_deg=25.0, distance=3.0,
+                    lens_mm=50.0, perspective="two-point")
+    return plan, seq.sequence_view(plan, view, "novice", PaperSpec("A4", "landscape", 12.0),
+                                   SequenceSettings())
+
+
+def test_a_row_of_evenly_spaced_copies_is_placed_by_equal_spacing(tmp_path):
+    """Issue 11 point 4: identical parts in an even row are repeated by the equal-spacing
+    construction (extend the spacing of the two before by 1x).  On the page, each lettered
+    line of "Draw EK and BJ through L and M: knob 4's ends." runs from its first letter through
+    the named point to the projected corner of that knob's box (0.05 mm)."""
+    plan, vp = _knob_row(tmp_path, [-190.0, -110.0, -30.0, 50.0])
+    chosen = plan.chosen()
+    spaced = [s for s in vp.steps if "spaced like" in s.headline]
+    assert spaced, [s.headline for s in vp.steps]
+    P = vp.camera.projection_mm
+
+    def mm(p):
+        h = P @ np.array([*p, 1.0])
+        return h[:2] / h[2]
+
+    checked = 0
+    for s in spaced:
+        at = {lb.name: np.asarray(lb.at_mm) for lb in s.labels if lb.kind == "point"}
+        for lb in s.labels:
+            assert np.allclose(lb.at_mm, mm(lb.at3d), atol=0.05)
+        for x in s.substeps:
+            m = re.match(r"Draw (\w\w) and (\w\w) through (\w) and (\w): (.+)'s ends\.$", x)
+            if not m:
+                continue
+            part = m.group(5).replace(" ", "_")
+            lo, hi = (np.asarray(v, float) for v in chosen[part].box)
+            corners = [mm((x0, lo[1], lo[2])) for x0 in (lo[0], hi[0])]  # front bottom corners
+            for line, through in ((m.group(1), m.group(3)), (m.group(2), m.group(4))):
+                a, b, c = at[line[0]], at[line[1]], at[through]
+                d = b - a  # the named point lies on the line ...
+                assert abs(d[0] * (c - a)[1] - d[1] * (c - a)[0]) / np.hypot(*d) < 0.05
+                # ... and the line ends at a corner of the knob's box
+                assert min(np.linalg.norm(b - k) for k in corners) < 0.05, (x, b, corners)
+                checked += 1
+        # the boxes drawn are the selected boxes, evenly spaced after the two before
+        members = sorted({st.part for st in s.strokes}, key=lambda q: chosen[q].box[0][0])
+        for q in members:
+            pts = np.array([p for st in s.strokes if st.part == q for p in st.points3d])
+            assert np.allclose(pts.min(axis=0), chosen[q].box[0])
+    assert checked >= 2
+
+
+def test_an_uneven_row_keeps_its_copies_where_the_picture_shows_them(tmp_path):
+    plan, vp = _knob_row(tmp_path, [-190.0, -110.0, -10.0, 50.0])
+    assert not [s for s in vp.steps if "spaced like" in s.headline]
+    drawn = {st.part for s in vp.steps if s.kind == "primitive" for st in s.strokes}
+    assert {"knob_1", "knob_2", "knob_3", "knob_4"} <= drawn
