@@ -18,9 +18,9 @@ One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
    answer names the stand-ins: a selected candidate whose parent was stood in for is reported
    as a copy (id + ``*``) hanging off the stand-in (:attr:`Selection.stand_ins`), so
    plan.json's parents and ratio equations hold as written.  In the quadratic formulation a
-   parent with stand-ins is the same linear row (a product with a sum gains nothing and
-   measured 60x slower).  Without stand-ins a part often stayed unguided because every one of
-   its candidates hung off a version of a parent that was not selected.
+   parent with stand-ins is a product with their *any* binary (below).  Without stand-ins a
+   part often stayed unguided because every one of its candidates hung off a version of a
+   parent that was not selected.
 3. no two selected candidates break a preserved relation of their parts
    (``candidates.relation_holds`` on their boxes, within the relation's tolerance).
 
@@ -31,9 +31,14 @@ Two formulations of the same problem (``settings.formulation``):
 * ``quadratic`` (the paper's): ``χ(c) χ(p) − χ(c) ≥ 0`` per parent and, per preserved
   relation, the paper's ``χ(a) χ(b) = 0`` for every relation-breaking pair, written as one
   native quadratic row per group of the linear formulation below:
-  ``(Σ_{c in group} χ(c)) · (Σ_{d in S} χ(d)) = 0``.  Exact: every term is a product of two
-  binaries, so the sum of products is 0 exactly when no breaking pair is selected.  (One row
-  per pair, as before, was O(n²) rows per relation: 149k rows and 26 s on 40 generated parts.)
+  ``any(group) · any(S) = 0``.  ``any(X)`` is ``χ`` itself for one candidate, else a binary
+  defined by the linear row ``any(X) = Σ_{c in X} χ(c)`` (binary, because ``X`` holds
+  candidates of one part, of which one is picked); a parent's stand-ins enter the parent row
+  the same way, ``χ(c) any(subs) − χ(c) ≥ 0``.  Exact: ``any(group) · any(S)`` is 0 exactly
+  when no breaking pair is selected.  Every product is of two binaries, which SCIP takes
+  natively (an AND).  Measured on 80 generated parts: one row per pair was 313k rows and
+  timed out; the product of the two sums, ``(Σ group)(Σ S) = 0``, 12-30 s (SCIP expanded and
+  factorised each product of sums); the *any* binaries, 3 s.
 * ``linear``: ``χ(c) ≤ χ(p)`` per parent; per preserved relation ``(i, j)``, the candidates of
   ``i`` are grouped by the set ``S`` of candidates of ``j`` they conflict with, and one row
   ``Σ_{c in group} χ(c) + Σ_{d in S} χ(d) ≤ 1`` per group.  Exact (at most one candidate of a
@@ -82,7 +87,8 @@ class Selection:
         seconds: SCIP solving time, seconds.
         formulation: ``quadratic`` or ``linear``.
         optimal: True only when SCIP proved optimality; callers must say so otherwise.
-        n_vars: binary variables (one per candidate).
+        n_vars: binary variables: one per candidate, and in the quadratic formulation one per
+            set of candidates a product row multiplies (``any``, module docstring).
         n_constraints: constraints added to the model.
         weight_adjust, weight_difficulty: the objective's weights.
         max_change: the change limit the candidates were generated with.
@@ -133,6 +139,7 @@ class SelectionModel:
         costs: candidate id -> weighted objective coefficient.
         start: ids of the start solution (all originals), empty when a part has no original.
         n_constraints: constraints added.
+        n_vars: binary variables added.
         settings: the solver settings.
         candidates: the candidates, sorted by id.
         subs: (candidate, parent) -> the candidates that may stand in for the parent
@@ -145,6 +152,7 @@ class SelectionModel:
     costs: dict[str, float]
     start: tuple[str, ...] = ()
     n_constraints: int = 0
+    n_vars: int = 0
     settings: SolverSettings = field(default_factory=SolverSettings)
     candidates: tuple[Candidate, ...] = ()
     subs: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
@@ -205,8 +213,6 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
 
     scip = Model("h2s-selection")
     scip.hideOutput()
-    if quadratic:  # factorise every product row with 2+ terms (SCIP's default: 50+); measured
-        scip.setParam("constraints/nonlinear/reformbinprodsfac", 2)  # in the README's table
     pick = {c.id: scip.addVar(name=f"pick[{c.id}]", vtype="B") for c in cands}
     costs = {c.id: c.cost(settings.weight_adjust, settings.weight_difficulty) for c in cands}
     n = 0
@@ -214,17 +220,33 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
     for part in sorted(by_part):
         scip.addCons(quicksum(pick[c.id] for c in by_part[part]) == 1, name=f"one[{part}]")
         n += 1
+    # Quadratic rows multiply binaries: a set of one part's candidates (at most one of which
+    # is picked) enters a product as one binary equal to their sum, so that every product is
+    # of two binaries, which SCIP handles natively (an AND of two binaries).
+    anys: dict[tuple[str, ...], Any] = {}
+
+    def one_of(ids: Sequence[str]) -> Any:
+        nonlocal n
+        if len(ids) == 1:
+            return pick[ids[0]]
+        key = tuple(ids)
+        if key not in anys:
+            v = scip.addVar(name=f"any[{len(anys)}:{ids[0]}]", vtype="B")
+            scip.addCons(v == quicksum(pick[i] for i in ids), name=f"anydef[{len(anys)}]")
+            anys[key] = v
+            n += 1
+        return anys[key]
+
     # (2) parents selected with their children: the parent itself or a candidate of its part
     # with the same intervals along the axes the child anchors off it (module docstring)
     subs = substitutes(cands, shallow=shallow)
     for c in cands:
         for p in c.parents:
             name = f"parent[{c.id}|{p}]"
-            alts = quicksum(pick[q] for q in subs[c.id, p])
-            if quadratic and len(subs[c.id, p]) == 1:  # the paper's product row
-                scip.addCons(pick[c.id] * alts - pick[c.id] >= 0, name=name)
+            if quadratic:  # the paper's product row
+                scip.addCons(pick[c.id] * one_of(subs[c.id, p]) - pick[c.id] >= 0, name=name)
             else:
-                scip.addCons(pick[c.id] <= alts, name=name)
+                scip.addCons(pick[c.id] <= quicksum(pick[q] for q in subs[c.id, p]), name=name)
             n += 1
     # (3) preserved relations kept
     for rel in preserved_relations(relations):
@@ -241,12 +263,11 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
         for a_id in sorted(conflicts):
             groups.setdefault(conflicts[a_id], []).append(a_id)
         for bad, group in sorted(groups.items(), key=lambda g: g[1][0]):
-            mine = quicksum(pick[i] for i in group)
-            theirs = quicksum(pick[j] for j in bad)
             if quadratic:  # the paper's products, one row per group: (Σ mine)(Σ theirs) = 0
-                scip.addCons(mine * theirs == 0, name=f"keep[{tag}|{group[0]}]")
+                scip.addCons(one_of(group) * one_of(bad) == 0, name=f"keep[{tag}|{group[0]}]")
             else:
-                scip.addCons(mine + theirs <= 1, name=f"keep[{tag}|{group[0]}]")
+                scip.addCons(quicksum(pick[i] for i in group) + quicksum(pick[j] for j in bad)
+                             <= 1, name=f"keep[{tag}|{group[0]}]")
             n += 1
     # (4) selections whose stand-ins closed a cycle, cut off (select_candidates)
     for k, sel in enumerate(exclude):
@@ -261,10 +282,16 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
         chosen = set(start)
         for c in cands:
             scip.setSolVal(sol, pick[c.id], 1.0 if c.id in chosen else 0.0)
-        if not scip.addSol(sol, free=True):
+        for ids, var in anys.items():
+            scip.setSolVal(sol, var, 1.0 if chosen.intersection(ids) else 0.0)
+        if not scip.checkSol(sol):  # a bug in the rows above, never the input's fault
+            scip.freeSol(sol)
+            log.warning("the all-originals start is not a solution of the selection model")
+        elif not scip.addSol(sol, free=True):
             log.warning("SCIP rejected the all-originals start solution")
     return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
-                          start=start, n_constraints=n, settings=settings,
+                          start=start, n_constraints=n, n_vars=len(pick) + len(anys),
+                          settings=settings,
                           candidates=tuple(cands), subs=subs)
 
 
@@ -308,7 +335,7 @@ def solve_selection_model(model: SelectionModel) -> Selection:
         log.warning("selection not proven optimal: SCIP status %s, gap %.3g", status, gap)
     return Selection(chosen=chosen, objective=objective, status=status, gap=gap,
                      seconds=float(scip.getSolvingTime()), formulation=model.formulation,
-                     optimal=optimal, n_vars=len(model.pick), n_constraints=model.n_constraints,
+                     optimal=optimal, n_vars=model.n_vars, n_constraints=model.n_constraints,
                      weight_adjust=settings.weight_adjust,
                      weight_difficulty=settings.weight_difficulty,
                      max_change=settings.max_change, stand_ins=stand_ins)

@@ -216,7 +216,7 @@ def test_checker_catches_broken_selections():
 # --------------------------------------------------------------------------- model and reporting
 
 
-def test_model_size_and_names():
+def test_model_size_and_names(caplog):
     prims, rels = camera()
     cands = generate_candidates(prims, rels, SETTINGS)
     q = build_selection_model(cands, rels, QUAD)
@@ -225,6 +225,10 @@ def test_model_size_and_names():
     assert q.pick["body"].name == "pick[body]"
     assert lin.n_constraints <= q.n_constraints
     assert q.start == ("body", "grip", "lens", "prism")
+    # the all-originals start is a solution of both (the quadratic model's "any" binaries set)
+    assert lin.scip.getNSols() == 1 and q.scip.getNSols() == 1
+    assert not [r for r in caplog.records if "start" in r.getMessage()]
+    assert q.n_vars > lin.n_vars == len(cands)
 
 
 def test_selection_json_and_determinism():
