@@ -608,6 +608,9 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item
 LABEL_PT = 7.5
 LABEL_DOT_MM = 0.45
 LABEL_RADII_MM = (1.0, 1.8, 2.8, 4.0, 5.5, 7.5)
+#: Further rings, tried only for a label that finds no room on the rings above (a crowded
+#: picture of a big assembly): farther from its dot, but never on another label.
+LABEL_RADII_FAR_MM = (10.0, 13.0, 17.0, 22.0)
 #: Directions tried round a point, in order of preference (right, up, left, down, diagonals).
 _LABEL_DIRS = ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, -1))
 
@@ -672,7 +675,10 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
         w = text_width_mm(lb.name, LABEL_PT, "Helvetica-Bold")
         cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
         best: tuple[tuple, Text] | None = None
-        for ri, r in enumerate(((0.0,) if part else ()) + LABEL_RADII_MM):
+        rings = ((0.0,) if part else ()) + LABEL_RADII_MM + LABEL_RADII_FAR_MM
+        for ri, r in enumerate(rings):
+            if best is not None and r in LABEL_RADII_FAR_MM:
+                break  # the far rings only when nothing nearer is free
             for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
                 norm = math.hypot(ux, uy) or 1.0
                 cx, cy = dx + r * ux / norm, dy + r * uy / norm

@@ -278,6 +278,8 @@ CATALOGUE: tuple[RatioEntry, ...] = (
     _entry(2.0, "extend-1-after", "extend by one", _steps_extend_one(after=True)),
 )
 
+#: Catalogue entries by their exact ratio (:func:`entry_for`'s fast path).
+_ENTRIES: dict[float, RatioEntry] = {e.ratio: e for e in CATALOGUE}
 #: The only entry usable when the parent's interval has no length (a plane's thickness).
 ALIGN_ONLY: tuple[RatioEntry, ...] = tuple(e for e in CATALOGUE if e.ratio == 0.0)
 
@@ -288,6 +290,9 @@ def entry_for(ratio: float) -> RatioEntry:
     Raises:
         KeyError: ``ratio`` is not in the catalogue.
     """
+    found = _ENTRIES.get(ratio)  # the catalogue's own floats, as candidates carry them
+    if found is not None:
+        return found
     for e in CATALOGUE:
         if abs(e.ratio - ratio) <= 1e-9:
             return e
@@ -317,9 +322,15 @@ def distinct_face_lines(anchors: Iterable[tuple[float, bool]]) -> int:
     False), (0.5, True)]) == 4`` (diagonals A-C and B-D, the two ½ lines), not 3 + 3.  Along
     one axis this counts exactly as the steps' ``key`` does.
     """
+    return _count_face_lines(frozenset((entry_for(r).ratio, bool(a)) for r, a in anchors))
+
+
+@lru_cache(maxsize=4096)
+def _count_face_lines(anchors: frozenset[tuple[float, bool]]) -> int:
+    """:func:`distinct_face_lines` of a set of (catalogue ratio, across) pairs."""
     lines: set[tuple[tuple[float, float], ...]] = set()
     for ratio, across in anchors:
-        lines.update(_face_lines(entry_for(ratio).ratio, bool(across)))
+        lines.update(_face_lines(ratio, across))
     return len(lines)
 
 

@@ -648,3 +648,25 @@ def test_key_explains_guides_only_when_the_workbook_has_guides():
     assert legend["guide_new"] in with_guides and legend["guide_reused"] in with_guides
     assert legend["guide_new"] not in without and legend["guide_reused"] not in without
     assert legend["earlier"] in without  # the rest of the key stays
+
+
+def test_a_crowded_picture_still_places_every_label_without_overlap():
+    """A big assembly's step can carry more labels round one spot than the near rings hold:
+    the labels go further out (LABEL_RADII_FAR_MM), still inside the picture and on no other
+    label or dot; a picture that cannot hold them at all is a RenderError, never overlap."""
+    from h2s_print.types import Label
+    view = L._View((0.0, 0.0, 100.0, 60.0), (10.0, 10.0, 110.0, 70.0))
+    labels = [Label(f"part {k}", (0.0, 0.0, 0.0), (50.0 + 0.3 * (k % 5), 30.0 + 0.3 * (k // 5)),
+                    "part") for k in range(25)]
+    items = L.place_labels(view, labels, [])
+    boxes = [it.box_mm for it in items if isinstance(it, L.Text)]
+    assert len(boxes) == 25
+    for i, a in enumerate(boxes):
+        assert 10.0 <= a[0] and a[2] <= 110.0 and 10.0 <= a[1] and a[3] <= 70.0
+        assert not any(L._boxes_overlap(a, b) for b in boxes[i + 1:])
+    far = max(math.dist(((b[0] + b[2]) / 2, (b[1] + b[3]) / 2), view.map(lb.at_mm))
+              for b, lb in zip(boxes, labels))
+    assert far > L.LABEL_RADII_MM[-1] + 5.0  # some had to go beyond the near rings
+    tiny = L._View((0.0, 0.0, 10.0, 6.0), (0.0, 0.0, 10.0, 6.0))
+    with pytest.raises(RenderError, match="no room"):
+        L.place_labels(tiny, labels, [])
