@@ -410,3 +410,104 @@ def test_restoring_also_anchors_the_other_axes():
     assert found
     assert any(any(a.axis == 0 and a.ratio == 1.0 and a.parent == post.id
                    for a in knob.anchors) for knob, post in found)
+
+
+# ----------------------------------------------------------------------------- axis options
+
+
+def _reference_axis_options(g, part, axis, ends, fresh, per_group, total):
+    """The definition of ``_Generator.ranked_axis_options``, one option at a time: every
+    option built, the valid ones sorted by their rank, then taken round-robin by parent
+    parts (the code as it was before it went to arrays)."""
+    import numpy as np
+
+    from h2s_print import candidates as C
+
+    orig = g.ctx.prims[part].box
+    mc = g.ctx.settings.max_change
+    length = orig[1][axis] - orig[0][axis]
+    raw = []
+    if C._is_flat(orig, axis):
+        for e in ends["lo"]:
+            twin = C._End(e.value, C._with_end(e.anchor, "hi"), e.parent_part, e.face_area)
+            raw.append((e.value, e.value, (e, twin), 0))
+    else:
+        for lo_e in ends["lo"]:
+            for hi_e in ends["hi"]:
+                if lo_e.parent_part == hi_e.parent_part and lo_e.anchor.parent != hi_e.anchor.parent:
+                    continue
+                if hi_e.value - lo_e.value <= C.DEGENERATE * max(length, 1e-300):
+                    continue
+                raw.append((lo_e.value, hi_e.value, (lo_e, hi_e), 0))
+        raw += [(e.value, e.value + length, (e,), 1) for e in ends["lo"]]
+        raw += [(e.value - length, e.value, (e,), 1) for e in ends["hi"]]
+        raw += [(e.value - 0.5 * length, e.value + 0.5 * length, (e,), 1) for e in ends["mid"]]
+    pairs = g.preserved_pairs()
+    ranked = []
+    for lo, hi, used, free in raw:
+        if not C._within_change(orig, axis, lo, hi, mc):
+            continue
+        parents = tuple(sorted({(u.parent_part, u.anchor.parent) for u in used}))
+        keeps = True
+        for ppart, pid in parents:
+            pbox = g.ctx.cands[pid].box
+            for r in pairs.get((part, ppart), ()):
+                args = ((lo, hi, pbox[0][axis], pbox[1][axis]) if r.a == part
+                        else (pbox[0][axis], pbox[1][axis], lo, hi))
+                keeps = keeps and C._relation_axis_holds(r, axis, *args)
+        if not keeps:
+            continue
+        cost = C._axis_cost(orig, axis, lo, hi, free)
+        lines, area = {}, {}
+        for u in used:
+            key = (u.anchor.parent, u.anchor.face_normal, u.anchor.face_side)
+            lines.setdefault(key, []).append(u.anchor.ratio)
+            area[key] = u.face_area
+        diff = sum(ratios.distinct_lines(rs) * g.ctx.a_ref / max(area[k], 1e-6 * g.ctx.a_ref)
+                   for k, rs in lines.items()) * g.ctx.settings.guide_cost
+        rank = (g.w_a * cost + g.w_d * diff, lo, hi,
+                tuple(C._anchor_key(u.anchor) for u in used))
+        ranked.append((rank, lo, hi, tuple(u.anchor for u in used), parents))
+    ranked.sort(key=lambda r: r[0])
+    if total is None:
+        return [(lo, hi, anchors) for _, lo, hi, anchors, _ in ranked[:per_group]]
+    counts, places = {}, []
+    for i, (_, _, _, _, parents) in enumerate(ranked):
+        group = (tuple(sorted({p for p, _ in parents})),
+                 bool(fresh) and any(pid in fresh for _, pid in parents))
+        counts[group] = counts.get(group, 0) + 1
+        if counts[group] <= per_group:
+            places.append((counts[group] - 1, i))
+    chosen = sorted(i for _, i in sorted(places)[:total])
+    assert np.all(np.diff(chosen) > 0) if len(chosen) > 1 else True
+    return [(ranked[i][1], ranked[i][2], ranked[i][3]) for i in chosen]
+
+
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
+    """Issue 13: the options of every axis, computed on arrays, are exactly those of the
+    definition (every option built and ranked one by one), at every level and in stage (ii),
+    on the camera and on a generated 12-part assembly with shared faces and relations."""
+    from h2s_print import candidates as C
+    from h2s_print.relate import detect_relations
+
+    if model == "camera":
+        prims, rels = camera()
+    else:
+        prims = [prim(f"p{i:02d}", (10.0 * (i % 4), 12.0 * (i // 4), 0.0),
+                      (10.0 * (i % 4) + 9.5 + (i % 3), 12.0 * (i // 4) + 10.0, 5.0 + (i % 5)))
+                 for i in range(12)]
+        rels = detect_relations(prims)
+    fast = C._Generator.ranked_axis_options
+    checked = []
+
+    def both(self, part, axis, ends, fresh, per_group, total):
+        got = fast(self, part, axis, ends, fresh, per_group, total)
+        want = _reference_axis_options(self, part, axis, ends, fresh, per_group, total)
+        assert [(o.lo, o.hi, o.anchors) for o in got] == want, (part, axis)
+        checked.append(len(want))
+        return got
+
+    monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
+    generate_candidates(prims, rels, SolverSettings())
+    assert len(checked) > 10 and sum(checked) > 30
