@@ -326,6 +326,34 @@ def relation_holds(relation: Relation, box_a: Box, box_b: Box) -> bool:
                                     box_b[0][ax], box_b[1][ax]) for ax in relation_axes(relation))
 
 
+def relation_holds_table(relation: Relation, boxes_a: Sequence[Box], boxes_b: Sequence[Box]
+                         ) -> np.ndarray:
+    """:func:`relation_holds` for every pair of ``boxes_a`` (rows) and ``boxes_b`` (columns),
+    as a boolean array, with the same arithmetic (a coaxial pair near its tolerance is
+    measured again with ``math.hypot``, so the answer is the same to the last bit)."""
+    a = np.asarray(boxes_a, dtype=float).reshape(-1, 2, 3)
+    b = np.asarray(boxes_b, dtype=float).reshape(-1, 2, 3)
+    if relation.type != "coaxial":
+        out = np.ones((len(a), len(b)), dtype=bool)
+        for ax in relation_axes(relation):
+            out &= _relation_axis_holds_on(relation, ax, a[:, 0, ax][:, None], a[:, 1, ax][:, None],
+                                           b[:, 0, ax][None, :], b[:, 1, ax][None, :])
+        return out
+    u, v = relation_axes(relation)
+    mid_a, mid_b = 0.5 * (a[:, 0] + a[:, 1]), 0.5 * (b[:, 0] + b[:, 1])
+    du = mid_a[:, u][:, None] - mid_b[:, u][None, :]
+    dv = mid_a[:, v][:, None] - mid_b[:, v][None, :]
+    big_a = np.abs(a.reshape(len(a), 6)).max(axis=1, initial=0.0)
+    big_b = np.abs(b.reshape(len(b), 6)).max(axis=1, initial=0.0)
+    scale = np.maximum(1.0, np.maximum(big_a[:, None], big_b[None, :]))
+    limit = relation.tolerance + _EPS * scale
+    dist = np.hypot(du, dv)
+    out = dist <= limit
+    for i, j in zip(*np.nonzero(np.abs(dist - limit) <= 1e-12 * np.maximum(limit, 1e-300))):
+        out[i, j] = math.hypot(float(du[i, j]), float(dv[i, j])) <= float(limit[i, j])
+    return out
+
+
 def preserved_relations(relations: Iterable[Relation]) -> tuple[Relation, ...]:
     """The relations selection must keep (``detail["preserved"]`` true), sorted."""
     return tuple(sorted((r for r in relations if r.detail.get("preserved")),

@@ -60,9 +60,10 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
+import numpy as np
 from pyscipopt import Model, quicksum
 
-from .candidates import Candidate, preserved_relations, relation_holds
+from .candidates import Candidate, preserved_relations, relation_holds, relation_holds_table
 from .config import FORMULATIONS, SolverSettings
 from .errors import SelectionError
 from .types import Relation
@@ -162,8 +163,9 @@ def _conflicts(rel: Relation, cands_a: Sequence[Candidate],
                cands_b: Sequence[Candidate]) -> dict[str, tuple[str, ...]]:
     """For each candidate of ``rel.a``, the candidates of ``rel.b`` it breaks ``rel`` with."""
     out: dict[str, tuple[str, ...]] = {}
-    for ca in cands_a:
-        bad = tuple(cb.id for cb in cands_b if not relation_holds(rel, ca.box, cb.box))
+    holds = relation_holds_table(rel, [c.box for c in cands_a], [c.box for c in cands_b])
+    for ca, row in zip(cands_a, holds):
+        bad = tuple(cands_b[j].id for j in np.flatnonzero(~row))
         if bad:
             out[ca.id] = bad
     return out

@@ -511,3 +511,27 @@ def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
     monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
     generate_candidates(prims, rels, SolverSettings())
     assert len(checked) > 10 and sum(checked) > 30
+
+
+@pytest.mark.parametrize("kind", ["coplanar", "bisector", "coaxial"])
+def test_relation_holds_table_is_relation_holds_for_every_pair(kind):
+    """The selection stage's conflicts are computed on arrays (issue 13): the table equals
+    relation_holds pair by pair, also for boxes exactly at and a hair off the tolerance."""
+    import random
+
+    from h2s_print.candidates import relation_holds_table
+
+    rng = random.Random(7)
+    r = rel("a", "b", kind, 1, tol=0.5, a_end="hi", b_end="lo")
+    boxes = []
+    for _ in range(40):
+        lo = [rng.choice([0.0, 1.0, 2.5]) + rng.choice([0.0, 0.25, 0.5, 0.5000001, 1e-12])
+              for _ in range(3)]
+        boxes.append((tuple(lo), tuple(x + rng.choice([1.0, 2.0, 3.0]) for x in lo)))
+    # on the tolerance exactly: mid-planes (and coaxial centre lines) 0.5 apart
+    boxes += [((0.0, 0.0, 0.0), (2.0, 2.0, 2.0)), ((0.5, 0.5, 0.5), (2.5, 2.5, 2.5)),
+              ((0.3, 0.4, 0.0), (2.3, 2.4, 2.0))]
+    table = relation_holds_table(r, boxes, boxes)
+    want = [[relation_holds(r, p, q) for q in boxes] for p in boxes]
+    assert table.tolist() == want
+    assert 0 < table.sum() < table.size
