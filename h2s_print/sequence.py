@@ -1576,8 +1576,8 @@ class _Context:
         free = list(group)
         rows: list[list[str]] = []
         while True:
-            found = [r for axis in range(3) for r in self._runs(free, boxes, axis)]
-            found = [r for r in found if self._spacing_face(r, boxes) is not None]
+            found = [r for axis in range(3) for r in self._runs(free, boxes, axis)
+                     if self._spacing_face(r, boxes, axis) is not None]
             if not found:
                 return rows
             best = max(found, key=lambda r: (len(r), [-group.index(q) for q in r]))
@@ -1623,12 +1623,12 @@ class _Context:
                 i = j
         return out
 
-    def _spacing_face(self, row: Sequence[str], boxes: dict[str, Box]) -> Face | None:
+    def _spacing_face(self, row: Sequence[str], boxes: dict[str, Box], axis: int
+                      ) -> Face | None:
         """The face of the row's first part the construction is drawn on: turned toward the
-        camera, containing the row's axis, the largest on the sheet; None when every such face
-        (or the row's whole band) is too small for its lines under the eyeball rule."""
-        first, second = boxes[row[0]], boxes[row[1]]
-        axis = max(range(3), key=lambda a: abs(second[0][a] - first[0][a]))
+        camera, containing the row's ``axis``, the largest on the sheet; None when every such
+        face (or the row's whole band) is too small for its lines under the eyeball rule."""
+        first = boxes[row[0]]
         lo = [min(boxes[q][0][a] for q in row) for a in range(3)]
         hi = [max(boxes[q][1][a] for q in row) for a in range(3)]
         n_lines = 3 + 2 * (len(row) - 2)
@@ -1651,10 +1651,10 @@ class _Context:
     def spacing_draft(self, row: Sequence[str], boxes: dict[str, Box], shape: str) -> _Draft:
         """The step placing a row's parts after its first two by equal spacing
         (:class:`h2s_print.constructions.Spacing`): its sub-steps, lines and the parts' boxes."""
-        face = self._spacing_face(row, boxes)
-        assert face is not None  # spaced_rows keeps only rows with a face
         first, second = boxes[row[0]], boxes[row[1]]
-        axis = max(range(3), key=lambda a: abs(second[0][a] - first[0][a]))
+        axis = max(range(3), key=lambda a: abs(second[0][a] - first[0][a]))  # the row's
+        face = self._spacing_face(row, boxes, axis)
+        assert face is not None  # spaced_rows keeps only rows with a face
         sp = equal_spacing(face, axis, [(boxes[q][0][axis], boxes[q][1][axis]) for q in row])
         (a, c), (b, d) = sp.diagonals
         placed = [self.say(q) for q in row[2:]]
