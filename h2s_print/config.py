@@ -3,7 +3,9 @@
 YAML is read with ``yaml.safe_load`` only, so tags never execute.  Every problem is a
 :class:`ConfigError` whose message names the file and the key path, e.g.
 ``camera.yaml: views[1].elevation_deg: expected a number, got 'high'``.  Unknown keys are
-errors: a typo in a 40-page print job must not silently fall back to a default.
+errors: a typo in a 40-page print job must not silently fall back to a default.  So is a key
+given twice in one mapping (``camera.yaml: title: key given twice (lines 1 and 9)``), which
+plain YAML would read as its last value (:mod:`h2s_print.yamlfile`).
 
 Paths inside a config are relative to the config file.
 
@@ -31,6 +33,7 @@ from typing import Any, Callable
 import yaml
 
 from .errors import ConfigError
+from .yamlfile import DuplicateKey, read_yaml
 
 LEVELS = ("novice", "apprentice", "master", "basic")
 PERSPECTIVES = ("two-point", "three-point")
@@ -362,7 +365,9 @@ def _read_yaml(path: Path) -> Any:
     except (OSError, UnicodeDecodeError) as exc:
         raise ConfigError(f"{path}: cannot read: {exc}") from None
     try:
-        return yaml.safe_load(text)
+        return read_yaml(text)
+    except DuplicateKey as exc:
+        raise ConfigError(f"{path.name}: {exc}") from None
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f"line {mark.line + 1}: " if mark is not None else ""

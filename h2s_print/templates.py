@@ -17,6 +17,7 @@ from typing import Any
 import yaml
 
 from .errors import H2SError
+from .yamlfile import DuplicateKey, read_yaml
 
 
 def _folder() -> Path:
@@ -31,8 +32,8 @@ def load(name: str) -> dict[str, Any]:
     """The parsed ``templates/<name>.yaml`` (cached; treat as read-only)."""
     path = _folder() / f"{name}.yaml"
     try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    except (OSError, yaml.YAMLError) as exc:
+        data = read_yaml(path.read_text(encoding="utf-8"))
+    except (OSError, yaml.YAMLError, DuplicateKey) as exc:
         raise H2SError(f"{path}: cannot read template file: {exc}") from None
     if not isinstance(data, dict):
         raise H2SError(f"{path}: expected a mapping of template keys")

@@ -107,6 +107,17 @@ def test_user_errors_are_one_line_exit_2(capsys, argv, message):
     assert "Traceback" not in err
 
 
+def test_a_key_given_twice_through_a_real_process(tmp_path):
+    bad = tmp_path / "camera.yaml"
+    bad.write_text((CONFIGS / "camera.yaml").read_text() + "title: Another title\n")
+    proc = subprocess.run([sys.executable, "-m", "h2s_print.cli", "plan", str(bad), "-o",
+                           str(tmp_path / "out")], capture_output=True, text=True, cwd=REPO)
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("h2s: error: camera.yaml: title: key given twice (lines ")
+    assert len(proc.stderr.strip().splitlines()) == 1 and "Traceback" not in proc.stderr
+    assert not (tmp_path / "out").exists()
+
+
 def test_bad_config_through_a_real_process(tmp_path):
     bad = tmp_path / "camera.yaml"
     bad.write_text((CONFIGS / "camera.yaml").read_text().replace("elevation_deg: 18",

@@ -170,3 +170,49 @@ def test_parts_split_option(tmp_path):
     bad = GOOD.replace("    drop: [screw_*]", "    drop: [screw_*]\n    split: sometimes", 1)
     with pytest.raises(ConfigError, match=r"^c\.yaml: model\.parts\.split: "):
         load_config(write(tmp_path, "c.yaml", bad))
+
+
+@pytest.mark.parametrize("edit, message", [
+    (lambda t: t + "title: Another camera\n",
+     "camera.yaml: title: key given twice (lines 1 and 22)"),
+    (lambda t: t.replace("    elevation_deg: 40\n", "    elevation_deg: 40\n    elevation_deg: 45\n"),
+     "camera.yaml: views[1].elevation_deg: key given twice (lines 17 and 18)"),
+    (lambda t: t.replace("  up: z\n", "  up: z\n  units: m\n"),
+     "camera.yaml: model.units: key given twice (lines 5 and 6)"),
+    (lambda t: t.replace("{size: A4, orientation", "{size: A4, size: A3, orientation"),
+     "camera.yaml: paper.size: key given twice (lines 20 and 20)"),
+])
+def test_a_key_given_twice_is_an_error_naming_it(tmp_path, edit, message):
+    """Plain YAML keeps the last of two equal keys without a word; a config must not (issue
+    15): the same typo guard as unknown keys, with the key path and both lines."""
+    with pytest.raises(ConfigError) as exc:
+        load_config(write(tmp_path, "camera.yaml", edit(GOOD)))
+    assert str(exc.value) == message
+
+
+def test_a_key_given_twice_in_a_books_tutorial_is_an_error(tmp_path):
+    write(tmp_path, "camera.yaml", GOOD.replace("  up: z\n", "  up: z\n  up: y\n"))
+    book = write(tmp_path, "book.yaml", "title: Book\ntutorials: [camera.yaml]\n")
+    with pytest.raises(ConfigError, match=r"camera.yaml: model.up: key given twice"):
+        load_config(book)
+
+
+def test_yaml_merge_keys_may_still_override():
+    from h2s_print.yamlfile import read_yaml
+    data = read_yaml("base: &b {size: A4, margin_mm: 12}\npaper:\n  <<: *b\n  size: A3\n")
+    assert data["paper"] == {"size": "A3", "margin_mm": 12}
+
+
+def test_a_template_key_given_twice_is_an_error(tmp_path, monkeypatch):
+    """A translator's duplicated key in templates/ is named, not silently replaced."""
+    from h2s_print import templates
+    from h2s_print.errors import H2SError
+
+    (tmp_path / "steps.yaml").write_text("headline:\n  first: A\n  first: B\n")
+    monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
+    templates.load.cache_clear()
+    try:
+        with pytest.raises(H2SError, match=r"headline.first: key given twice \(lines 2 and 3\)"):
+            templates.load("steps")
+    finally:
+        templates.load.cache_clear()
