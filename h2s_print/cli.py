@@ -176,6 +176,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "inspect":
             return _inspect(args)
+        if args.command in ("plan", "build"):
+            from . import templates
+            for name in templates.FIELDS:  # wording checked before any work is done
+                templates.load(name)
         if args.command == "plan":
             return _plan(args, console)
         if args.command == "build":

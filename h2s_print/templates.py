@@ -10,6 +10,7 @@ Templates are ``str.format`` strings: ``text("steps", "primitive.first", part="b
 from __future__ import annotations
 
 import functools
+import string
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -27,9 +28,48 @@ def _folder() -> Path:
     return Path(__file__).resolve().parents[1] / "templates"
 
 
+#: The fields the code fills in each template file: a placeholder not listed is a typo (a
+#: translator's ``{prat}``), refused when the file is read rather than mid-build.
+FIELDS: dict[str, frozenset[str]] = {
+    "steps": frozenset((
+        "Part", "Parts", "about", "amount", "counts", "dim", "dims", "edge", "edges", "end",
+        "face", "faces", "first", "fraction", "half", "hi", "index", "kind", "label", "line",
+        "lines", "lines2", "lo", "n", "new", "other", "parent", "part", "parts", "point",
+        "points", "position", "pside", "reused", "second", "shape", "side", "sides", "start",
+        "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "vp",
+        "vp2", "where", "words")),
+    "pages": frozenset((
+        "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",
+        "last", "level", "minutes", "n", "page", "pages", "the_part", "title", "vdir", "view",
+        "vp")),
+}
+
+
+def _validate(name: str, path: Path, node: Any, key: str = "") -> None:
+    """Every text in ``node`` is a well-formed template whose placeholders are known."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            _validate(name, path, v, f"{key}.{k}" if key else str(k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            _validate(name, path, v, f"{key}[{i}]")
+    elif isinstance(node, str):
+        try:
+            fields = [f for _, f, _, _ in string.Formatter().parse(node) if f is not None]
+        except ValueError as exc:
+            raise H2SError(f"{path}: {key}: not a valid template ({exc}): {node!r}") from None
+        known = FIELDS.get(name)
+        for f in fields:
+            base = f.split(".")[0].split("[")[0]
+            if not base or (known is not None and base not in known):
+                raise H2SError(f"{path}: {key}: unknown placeholder {{{f}}} (known: "
+                               f"{', '.join(sorted(known or ()))})")
+
+
 @functools.lru_cache(maxsize=None)
 def load(name: str) -> dict[str, Any]:
-    """The parsed ``templates/<name>.yaml`` (cached; treat as read-only)."""
+    """The parsed ``templates/<name>.yaml`` (cached; treat as read-only), every template in it
+    checked: well-formed, and only the placeholders in :data:`FIELDS`."""
     path = _folder() / f"{name}.yaml"
     try:
         data = read_yaml(path.read_text(encoding="utf-8"))
@@ -37,6 +77,7 @@ def load(name: str) -> dict[str, Any]:
         raise H2SError(f"{path}: cannot read template file: {exc}") from None
     if not isinstance(data, dict):
         raise H2SError(f"{path}: expected a mapping of template keys")
+    _validate(name, path, data)
     return data
 
 

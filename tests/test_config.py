@@ -216,3 +216,31 @@ def test_a_template_key_given_twice_is_an_error(tmp_path, monkeypatch):
             templates.load("steps")
     finally:
         templates.load.cache_clear()
+
+
+@pytest.mark.parametrize("text, message", [
+    ("headline:\n  first: \"{Prat}: the first {shape}.\"\n",
+     r"headline.first: unknown placeholder \{Prat\}"),
+    ("headline:\n  first: \"{Part: the first {shape}.\"\n", r"headline.first: not a valid template"),
+    ("substep:\n  edge: \"Use the edge {}.\"\n", r"substep.edge: unknown placeholder \{\}"),
+])
+def test_template_placeholders_are_checked_when_read(tmp_path, monkeypatch, text, message):
+    """A translator's typo in a placeholder is a clear error when the wording is read, not a
+    KeyError in the middle of a build (issue 15)."""
+    from h2s_print import templates
+    from h2s_print.errors import H2SError
+
+    (tmp_path / "steps.yaml").write_text(text)
+    monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
+    templates.load.cache_clear()
+    try:
+        with pytest.raises(H2SError, match=message):
+            templates.load("steps")
+    finally:
+        templates.load.cache_clear()
+
+
+def test_the_shipped_templates_pass_their_own_check():
+    from h2s_print import templates
+    templates.load.cache_clear()
+    assert templates.load("steps") and templates.load("pages")
