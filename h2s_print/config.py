@@ -33,6 +33,7 @@ from typing import Any, Callable
 import yaml
 
 from .errors import ConfigError
+from .glyphs import describe, unprintable
 from .yamlfile import DuplicateKey, read_yaml
 
 LEVELS = ("novice", "apprentice", "master", "basic")
@@ -316,6 +317,16 @@ class _Node:
             raise self.fail(f"expected {what}, got {_show(v)}")
         return v
 
+    def printed_text(self) -> str:
+        """:meth:`text` that goes on the pages: every character printable in the page font
+        (:mod:`h2s_print.glyphs`), else an error naming it."""
+        v = self.text()
+        ch = unprintable(v)
+        if ch is not None:
+            raise self.fail(f"character {describe(ch)} cannot be printed in the page font "
+                            f"(Helvetica: Latin-1 and Windows-1252)")
+        return v
+
     def choice(self, options: tuple[str, ...]) -> str:
         v = self.value
         if not isinstance(v, str) or v not in options:
@@ -411,7 +422,7 @@ def _tutorial(path: Path, data: Any) -> TutorialConfig:
         raise root.fail("empty config (expected title, model, views ...)")
     root.mapping(_TUTORIAL_KEYS, required=("model", "views"))
     name = path.stem
-    title = root.get("title", lambda n: n.text(), name)
+    title = root.get("title", lambda n: n.printed_text(), name)
     model = _model(root.child("model"), path.parent)
     views = tuple(_view(n) for n in root.child("views").items())
     if not views:
@@ -570,5 +581,5 @@ def _book(path: Path, data: Any, stack: tuple[Path, ...]) -> BookConfig:
         if names.index(n) != i:
             raise entries[i].fail(f"tutorial name {n!r} appears twice")
     paper = root.get("paper", _paper, tutorials[0].paper)
-    return BookConfig(path=here, name=path.stem, title=root.get("title", lambda n: n.text(),
+    return BookConfig(path=here, name=path.stem, title=root.get("title", lambda n: n.printed_text(),
                       path.stem), tutorials=tuple(tutorials), paper=paper)

@@ -61,6 +61,7 @@ from . import templates
 from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct, ellipse_on_face
 from .errors import RenderError
+from .glyphs import printable, spelled
 from .project import edge_exit, horizon_mm, make_camera, vp_side
 from .types import Guide, Label, Step, Stroke, ViewPlan
 
@@ -277,24 +278,10 @@ _WIDTHS["Helvetica-Oblique"] = _WIDTHS["Helvetica"]
 FONTS = tuple(_WIDTHS)
 
 #: Spelled-out replacements for characters Helvetica (Windows-1252) cannot print.
-_SPELL = {
-    "⅓": "1/3", "⅔": "2/3", "⅛": "1/8", "⅜": "3/8", "⅝": "5/8", "⅞": "7/8", "⅕": "1/5",
-    "→": "->", "←": "<-", "↑": "^", "↓": "v", "≈": "~", "≤": "<=", "≥": ">=", "−": "-",
-    "×": "x", "\u2009": " ", "\u00a0": " ", "\u202f": " ", "\t": " ", "\n": " ",
-}
-
-
 def plain_text(string: str) -> str:
     """``string`` with every character printable in Helvetica (Windows-1252)."""
-    out = []
-    for ch in str(string):
-        ch = _SPELL.get(ch, ch)
-        try:
-            ch.encode("cp1252")
-        except UnicodeEncodeError:
-            ch = "?"
-        out.append(ch)
-    return "".join(out)
+    # user text and templates were checked when read (h2s_print.glyphs); "?" is a last resort
+    return "".join(spelled(ch) if printable(ch) else "?" for ch in str(string))
 
 
 def text_width_mm(string: str, size_pt: float, font: str = "Helvetica") -> float:

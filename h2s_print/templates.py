@@ -18,6 +18,7 @@ from typing import Any
 import yaml
 
 from .errors import H2SError
+from .glyphs import describe, unprintable
 from .yamlfile import DuplicateKey, read_yaml
 
 
@@ -58,6 +59,10 @@ def _validate(name: str, path: Path, node: Any, key: str = "") -> None:
             fields = [f for _, f, _, _ in string.Formatter().parse(node) if f is not None]
         except ValueError as exc:
             raise H2SError(f"{path}: {key}: not a valid template ({exc}): {node!r}") from None
+        ch = unprintable("".join(lit for lit, _, _, _ in string.Formatter().parse(node)))
+        if ch is not None:
+            raise H2SError(f"{path}: {key}: character {describe(ch)} cannot be printed in the "
+                           f"page font (Helvetica: Latin-1 and Windows-1252)")
         known = FIELDS.get(name)
         for f in fields:
             base = f.split(".")[0].split("[")[0]

@@ -244,3 +244,34 @@ def test_the_shipped_templates_pass_their_own_check():
     from h2s_print import templates
     templates.load.cache_clear()
     assert templates.load("steps") and templates.load("pages")
+
+
+@pytest.mark.parametrize("title, ok", [("Appareil photo reflex numérique", True),
+                                       ("Kamera – Übung 1 ½", True),
+                                       ("Фотоаппарат", False), ("相机", False)])
+def test_a_title_the_page_font_cannot_print_is_an_error_not_question_marks(tmp_path, title, ok):
+    """Before, a Cyrillic title printed as '???????????' on every page with no word; until an
+    embedded Unicode font (the languages issue), such a character is an error naming the field
+    and the character (the brief: a character that cannot be printed, say so)."""
+    path = write(tmp_path, "camera.yaml", GOOD.replace("Digital SLR camera", title))
+    if ok:
+        assert load_config(path).title == title
+        return
+    with pytest.raises(ConfigError) as exc:
+        load_config(path)
+    assert str(exc.value).startswith(f"camera.yaml: title: character {title[0]!r} (U+")
+    assert "cannot be printed" in str(exc.value)
+
+
+def test_a_template_character_the_font_cannot_print_is_an_error(tmp_path, monkeypatch):
+    from h2s_print import templates
+    from h2s_print.errors import H2SError
+
+    (tmp_path / "steps.yaml").write_text("headline:\n  first: \"{Part}: первый {shape}.\"\n")
+    monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
+    templates.load.cache_clear()
+    try:
+        with pytest.raises(H2SError, match=r"headline.first: character 'п' \(U\+043F"):
+            templates.load("steps")
+    finally:
+        templates.load.cache_clear()
