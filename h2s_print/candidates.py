@@ -753,6 +753,8 @@ class _Generator:
             return []
         n_lo, n_hi = len(ends["lo"]), len(ends["hi"])
         value = np.array([e.value for e in pool])
+        pp = self._codes([e.parent_part for e in pool])  # parent part, by code
+        parent = self._codes([e.anchor.parent for e in pool])  # parent candidate, by code
         # rows: (first end, second end or -1, lo, hi, free ends); the flat case pairs an end
         # with its own twin (second end == first end, said as lo and hi)
         if _is_flat(orig, axis):
@@ -767,9 +769,7 @@ class _Generator:
             near = ((np.abs((hv - lv) - ext) <= limit) & (np.abs(0.5 * (lv + hv) - mid) <= limit))
             a, b = np.nonzero(near)
             pi, pj = li[a], hj[b]
-            ppart = self._codes([e.parent_part for e in pool])
-            pid = self._codes([e.anchor.parent for e in pool])
-            ok = ~((ppart[pi] == ppart[pj]) & (pid[pi] != pid[pj]))
+            ok = ~((pp[pi] == pp[pj]) & (parent[pi] != parent[pj]))
             ok &= ~(value[pj] - value[pi] <= DEGENERATE * max(length, 1e-300))
             pi, pj = pi[ok], pj[ok]
             singles = np.arange(len(pool))
@@ -793,7 +793,6 @@ class _Generator:
         limit = base + _EPS * np.maximum(1.0, np.maximum(np.abs(los), np.abs(his)))
         valid = (np.abs((his - los) - ext) <= limit) & (np.abs(0.5 * (los + his) - mid) <= limit)
         pairs = self.preserved_pairs()
-        parent = self._codes([e.anchor.parent for e in pool])
         for c in range(int(parent.max()) + 1):
             e = pool[int(np.argmax(parent == c))]
             rels = pairs.get((part, e.parent_part), ())
@@ -835,7 +834,6 @@ class _Generator:
         order = np.lexsort((r_second, r_first, his, los, score))
         order = order[valid[order]]
         # groups: the parent parts used, and whether a fresh parent is among them
-        pp = self._codes([e.parent_part for e in pool])
         g_first, g_second = pp[first], np.where(two, pp[sec], -1)
         g_lo, g_hi = np.minimum(g_first, np.where(two, g_second, g_first)), np.maximum(
             g_first, g_second)
