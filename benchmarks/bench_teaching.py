@@ -47,6 +47,11 @@ plans and of every level built; *id names*, steps whose text contains the raw na
 whose name :func:`h2s_print.names.display_names` does not keep; *minutes* as above.  Its last
 line pools every step of every model.
 
+A fourth table, **design**, prints DESIGN.md §5's figures as that section defines them,
+computed from the plan.json document alone (``benchmarks/design_figures.py``, which does not
+import h2s_print): first view, first guided level of the config, the first primitive step
+counted in *by eye* (it has no guides), words of primitive steps only.
+
 A third table, **pages** (issue 12), over the novice view plans of every view: *round*, the
 parts fitted round (a cylinder, or a plane whose outline is round, ``detail["round"]``);
 *ellipses*, the round parts drawn with ellipses per view summed, as ``constructed/by eye``
@@ -87,7 +92,9 @@ from h2s_print.config import TutorialConfig, load_tutorial  # noqa: E402
 from h2s_print.errors import H2SError  # noqa: E402
 from h2s_print.layout import estimate_minutes  # noqa: E402
 from h2s_print.order import part_size, start_part  # noqa: E402
-from h2s_print.plan import Plan, build_plan  # noqa: E402
+from h2s_print.plan import Plan, build_plan, plan_json  # noqa: E402
+from design_figures import HEADER as HEADER_DESIGN, figures as design_figures  # noqa: E402
+from design_figures import row as design_row, total as design_total  # noqa: E402
 from h2s_print import sequence as seq  # noqa: E402
 from h2s_print.names import display_names  # noqa: E402
 from h2s_print.sequence import sequence_views  # noqa: E402
@@ -194,6 +201,11 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
         vps = sequence_views(plan, view, LEVELS, tutorial.paper, tutorial.sequence)
         views[view.name] = {vp.level: vp for vp in vps}
     novice = [v["novice"] for v in views.values()]
+    # DESIGN.md §5, from plan.json alone: the first view at the config's first guided level
+    first_level = next(lv for lv in tutorial.levels if lv != "basic")
+    vp0 = views[tutorial.views[0].name].get(first_level) or sequence_views(
+        plan, tutorial.views[0], (first_level,), tutorial.paper, tutorial.sequence)[0]
+    design = design_figures(plan_json(plan, [vp0]))
 
     chosen = plan.chosen()
     sizes = {part: part_size(c.box) for part, c in chosen.items()}
@@ -291,6 +303,7 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
         "select_s": float(plan.selection.seconds),
         "selection_status": plan.selection.status,
         "candidates": len(plan.candidates),
+        "design": design,
     }
 
 
@@ -424,6 +437,16 @@ def main() -> None:
             "round", "ellipses_constructed", "ellipses_by_eye", "back_face", "face_anchors",
             "hidden_drawn", "hidden_anchors")}
         print(pages_row("total", total))
+    print()
+    print("design (DESIGN.md §5, from plan.json alone: benchmarks/design_figures.py)")
+    print(HEADER_DESIGN)
+    print("-" * len(HEADER_DESIGN))
+    for name, r in results.items():
+        if "error" not in r:
+            print(design_row(name, r["design"]))
+    if ok:
+        print("-" * len(HEADER_DESIGN))
+        print(design_total([r["design"] for r in ok]))
     if args.json:
         args.json.write_text(json.dumps(results, indent=1, sort_keys=True) + "\n")
 

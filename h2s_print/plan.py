@@ -89,14 +89,18 @@ def model_json(model: Model) -> dict[str, Any]:
             "bounds": _box(model.bounds)}
 
 
-def part_json(primitive: Primitive) -> dict[str, Any]:
-    """One entry of the contract's ``parts``."""
-    return {
+def part_json(primitive: Primitive, bounds: Any = None) -> dict[str, Any]:
+    """One entry of the contract's ``parts`` (plus ``bounds``, the part mesh's own
+    axis-aligned bounding box, when given: DESIGN.md §5's "beyond its part" needs it)."""
+    out = {
         "name": primitive.part,
         "primitive": {"type": primitive.type, "axis": primitive.axis,
                       "box": _box(primitive.box)},
         "residual": float(primitive.residual),
     }
+    if bounds is not None:
+        out["bounds"] = _box(bounds)
+    return out
 
 
 def relation_json(relation: Relation) -> dict[str, Any]:
@@ -159,7 +163,7 @@ def plan_json(plan: Plan, views: Sequence[ViewPlan] = ()) -> dict[str, Any]:
     return {
         "schema": SCHEMA,
         "model": model_json(plan.model),
-        "parts": [part_json(p) for p in plan.primitives],
+        "parts": [part_json(p, plan.model.part(p.part).box) for p in plan.primitives],
         "relations": [relation_json(r) for r in plan.relations],
         "candidates": [c.to_json() for c in plan.candidates],
         "selection": plan.selection.to_json(),

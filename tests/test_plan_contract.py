@@ -13,6 +13,7 @@ import json
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -89,6 +90,18 @@ def test_schema(planned):
 
 def test_parts(planned):
     contract.check_parts(planned["plan"])
+
+
+def test_parts_carry_their_own_bounds_and_no_primitive_leaves_them(planned):
+    """``parts[].bounds`` (a field this project adds) is the part mesh's bounding box: DESIGN
+    §5's "beyond its part" is read off plan.json with it, and no fitted primitive leaves its
+    part by more than 1 % of the part's diagonal (issue 10 point 2)."""
+    for part in planned["plan"]["parts"]:
+        lo, hi = (np.asarray(x, dtype=float) for x in part["bounds"])
+        assert np.all(lo <= hi), part["name"]
+        box = np.asarray(part["primitive"]["box"], dtype=float)
+        tol = 0.01 * float(np.linalg.norm(hi - lo))
+        assert np.all(lo - box[0] <= tol) and np.all(box[1] - hi <= tol), part["name"]
 
 
 def test_relations(planned):
