@@ -603,8 +603,10 @@ class _GridEngine:
     sample lying on its own faces is not hidden by them (they are at its depth, less the bias).
     """
 
-    #: Most (sample, triangle) pairs handled at once.
-    PAIRS = 2_000_000
+    #: Most (sample, triangle) pairs handled at once: small chunks stay in the CPU's cache
+    #: (measured on the 146k-triangle model: 2M pairs 12.8 s, 1M 11.7 s, 250k 9.8 s, 100k
+    #: 9.0 s, 50k 8.7 s; peak memory 604 -> 552 MB; the same lines).
+    PAIRS = 100_000
 
     def __init__(self, camera: Camera, cs: ContourSettings, meshes: Sequence[_Mesh]):
         """An empty engine whose cell size suits ``meshes`` (all occluders to come)."""
