@@ -48,6 +48,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, replace
 from typing import Any, Callable, Sequence
 
@@ -238,14 +239,31 @@ def _engine_name(cs: ContourSettings) -> str:
     return "grid" if cs.engine == "auto" else cs.engine
 
 
+#: Welded meshes kept (:meth:`_Mesh.of`), the most recently used, with the parts they are of.
+_MESH_CACHE = 64
+_MESHES: "OrderedDict[int, tuple[Part, _Mesh]]" = OrderedDict()
+
+
 class _Mesh:
-    """A part's mesh welded by position, with its edge table (view independent)."""
+    """A part's mesh welded by position, with its edge table (view independent; never
+    changed after it is built, so one may serve every trace of its part)."""
 
     __slots__ = ("name", "v", "f", "n", "diag", "edges", "ef", "consistent", "boundary", "closed")
 
     @staticmethod
     def of(part: Part) -> "_Mesh":
-        return _Mesh(part)
+        """``part``'s welded mesh, built once while the part is among the last
+        :data:`_MESH_CACHE` asked for (a sequence stage traces a part several times: its own
+        lines, the finished drawing, the occlusion counts; welding is the costly step)."""
+        hit = _MESHES.get(id(part))
+        if hit is not None and hit[0] is part:  # the part is held, so its id is its own
+            _MESHES.move_to_end(id(part))
+            return hit[1]
+        mesh = _Mesh(part)
+        _MESHES[id(part)] = (part, mesh)
+        while len(_MESHES) > _MESH_CACHE:
+            _MESHES.popitem(last=False)
+        return mesh
 
     def __init__(self, part: Part):
         self.name = part.name
@@ -505,7 +523,7 @@ def occlusion_test(occluders: Sequence[Part], camera: Camera,
                    settings: ContourSettings | None = None) -> Callable[[Any], np.ndarray]:
     """:func:`visible_points` against ``occluders`` as a function of the points, the engine
     built once (to test many point sets against the same parts)."""
-    meshes = [_Mesh(p) for p in occluders]
+    meshes = [_Mesh.of(p) for p in occluders]
     if not meshes:
         return lambda points: np.ones(len(np.asarray(points).reshape(-1, 3)), dtype=bool)
     engine = _make_engine(settings or ContourSettings(), camera, meshes)

@@ -378,3 +378,19 @@ def test_real_model_contours_are_visible_and_deterministic(shared_models):
     assert n > 500 and len(blocked) == 0, blocked[:5]
     again = final_contours(parts, cam)
     assert [s.polylines_mm for s in sets] == [s.polylines_mm for s in again]
+
+
+def test_a_parts_welded_mesh_is_built_once_and_only_for_that_part():
+    """Issue 13: a sequence stage traces a part several times; its welded mesh is built once
+    while the part is in use, never shared with another part object (even an equal one), and
+    the cache stays bounded."""
+    from h2s_print import contours as C
+
+    a = box_part("a", (0, 0, 0), (1, 2, 3))
+    twin = box_part("a", (0, 0, 0), (1, 2, 3))
+    m = C._Mesh.of(a)
+    assert C._Mesh.of(a) is m and C._Mesh.of(twin) is not m
+    assert np.array_equal(C._Mesh.of(twin).edges, m.edges)
+    for k in range(C._MESH_CACHE + 5):
+        C._Mesh.of(box_part(f"b{k}", (0, 0, 0), (1, 1, 1 + k)))
+    assert len(C._MESHES) <= C._MESH_CACHE and C._Mesh.of(a) is not m  # a was let go
