@@ -19,7 +19,8 @@ set size) is its own.  Stages, timed with ``time.perf_counter`` around each stag
 * **seq** ``sequence.sequence_views`` for every view at the config's levels, plus the finished
   drawing per workbook (``sequence.sequence_workbooks``, as the pipeline calls it), *less* the
   time spent in contour tracing and hidden-line removal called from there (the sequence
-  module's ``final_contours``, ``trace_contours`` and ``occlusion_test`` tests), which is
+  module's ``final_contours`` and ``own_contours`` and the occlusion tests the latter returns),
+  which is
   **contours**;
 * **layout** ``layout.lay_out_workbook`` per workbook; **render** ``render.pdf_bytes`` per
   workbook.
@@ -179,10 +180,13 @@ def measure(config: Path) -> dict[str, Any]:
                 out = fn(*args, **kwargs)
             finally:
                 contour_s[0] += time.perf_counter() - start
-            return clocked(out) if fn is originals.get("occlusion_test") else out
+            if fn is originals.get("own_contours"):  # its occlusion tests are contour work too
+                sets, tests = out
+                return sets, tuple(clocked(t) for t in tests)
+            return out
         return wrapped
 
-    for name in ("final_contours", "trace_contours", "occlusion_test"):
+    for name in ("final_contours", "own_contours"):
         originals[name] = getattr(seq, name)
     for name, fn in list(originals.items()):
         setattr(seq, name, clocked(fn))

@@ -532,6 +532,23 @@ def occlusion_test(occluders: Sequence[Part], camera: Camera,
 
 
 
+def own_contours(parts: Sequence[Part], camera: Camera, *, crease_deg: float = 35.0,
+                 suggestive: bool = False, settings: ContourSettings | None = None
+                 ) -> tuple[tuple[ContourSet, ...], tuple[Callable[[Any], np.ndarray], ...]]:
+    """Each part's visible lines hidden by itself only (``trace_contours([part])``), and for
+    each part :func:`occlusion_test` against it: one hidden-line engine per part serves both
+    (the contour order's occlusion counts need the two)."""
+    cs = _settings(settings, crease_deg, suggestive)
+    sets, tests = [], []
+    for p in parts:
+        m = _Mesh.of(p)
+        engine = _make_engine(cs, camera, [m])
+        sets.append(_trace_one(m, camera, cs, engine))
+        tests.append(lambda points, e=engine: np.asarray(
+            e.visible(np.asarray(points, dtype=float).reshape(-1, 3)), dtype=bool))
+    return tuple(sets), tuple(tests)
+
+
 def _make_engine(cs: ContourSettings, camera: Camera, meshes: Sequence[_Mesh]):
     if _engine_name(cs) == "ray":
         return _RayEngine(camera, cs, meshes)

@@ -156,7 +156,7 @@ import numpy as np
 from . import templates
 from .config import PaperSpec, SequenceSettings, ViewSpec
 from .constructions import Face, align, construct, ellipse_on_face, equal_spacing
-from .contours import adjust_part, final_contours, occlusion_test, trace_contours
+from .contours import adjust_part, final_contours, own_contours
 from .errors import SelectionError
 from .names import PartName, display_names, natural_key
 from .occlude import (Solid, box_solid, cylinder_solid, hidden, outward_normals, polyhedron,
@@ -800,8 +800,8 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
     """``h[i, j]``: how many samples of part ``j``'s own visible contours (hidden by itself only)
     part ``i`` hides (the contours' exact occlusion test against ``i``'s triangles)."""
     n = len(parts)
-    own = [trace_contours([p], camera, crease_deg=settings.crease_deg,
-                          suggestive=settings.suggestive)[0] for p in parts]
+    own, tests = own_contours(parts, camera, crease_deg=settings.crease_deg,
+                              suggestive=settings.suggestive)
     samples: list[np.ndarray] = []
     for cs in own:
         pts = [np.asarray(pl, dtype=float) for pl in cs.polylines3d if len(pl) >= 2]
@@ -811,7 +811,6 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
         samples.append(allp)
     proj = [camera.project(np.asarray(p.vertices, dtype=float)) for p in parts]
     h = np.zeros((n, n), dtype=int)
-    tests: dict[int, Any] = {}  # one occlusion engine per part, built when first needed
     for j in range(n):
         if not len(samples[j]):
             continue
@@ -823,9 +822,7 @@ def _hidden_counts(parts: Sequence[Part], camera: Camera, settings: SequenceSett
             inside = np.all((sj >= lo) & (sj <= hi), axis=1)
             if not inside.any():
                 continue
-            # the contours' own exact occlusion test (no optional ray package needed)
-            if i not in tests:
-                tests[i] = occlusion_test([parts[i]], camera)
+            # the contours' own exact occlusion test, on the engine that traced part i
             seen = tests[i](samples[j][inside])
             h[i, j] = int(np.count_nonzero(~seen))
     return h

@@ -394,3 +394,19 @@ def test_a_parts_welded_mesh_is_built_once_and_only_for_that_part():
     for k in range(C._MESH_CACHE + 5):
         C._Mesh.of(box_part(f"b{k}", (0, 0, 0), (1, 1, 1 + k)))
     assert len(C._MESHES) <= C._MESH_CACHE and C._Mesh.of(a) is not m  # a was let go
+
+
+def test_own_contours_are_each_part_traced_alone_and_its_test_is_occlusion_by_it():
+    """own_contours (the contour order's input) equals tracing each part alone, and each
+    returned test equals occlusion_test against that part."""
+    from h2s_print.contours import occlusion_test, own_contours, trace_contours
+
+    parts = [box_part("a", (0, 0, 0), (2, 2, 2)), box_part("b", (0.5, -3, 0.5), (1.5, -1, 1.5))]
+    cam = look_at((6.0, -9.0, 5.0), (1.0, 0.0, 1.0))
+    sets, tests = own_contours(parts, cam)
+    assert all(s.polylines3d for s in sets)
+    for p, got in zip(parts, sets):
+        assert got == trace_contours([p], cam)[0]
+    pts = np.random.default_rng(3).uniform(-4, 4, (200, 3))
+    for p, test in zip(parts, tests):
+        assert np.array_equal(test(pts), occlusion_test([p], cam)(pts))
