@@ -155,6 +155,7 @@ import numpy as np
 
 from . import templates
 from .config import PaperSpec, SequenceSettings, ViewSpec
+from .candidates import Anchor, relation_holds
 from .constructions import Face, align, construct, ellipse_on_face, equal_spacing
 from .contours import adjust_part, final_contours, own_contours
 from .errors import SelectionError
@@ -173,6 +174,8 @@ log = logging.getLogger(__name__)
 #: A step's text (headline and numbered sub-steps) longer than this many words is split: its
 #: constructions go to steps of their own (kind ``guides``) before the part's step.
 MAX_STEP_WORDS = 70
+#: Positions said for a part placed by eye, at most (:meth:`_Context.free_positions`).
+FREE_POSITIONS = 3
 #: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
 _CITES = ("reuse", "edge", "edge_two")
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
@@ -949,6 +952,65 @@ class _Context:
                     stack.append(pp)
         return keep
 
+    def free_positions(self, part: str, drawn: Sequence[str]) -> list[tuple[str, Any]]:
+        """Where a part placed by eye lines up with the parts drawn before it, as (part,
+        anchor-like position) pairs for :func:`_position`: its preserved relations with them
+        that its selected box keeps (a shared face plane: "its back in line with the base's
+        back"; a common mid-plane or axis: "its middle ... half of the way ..."), the biggest
+        drawn part first, at most one per axis and :data:`FREE_POSITIONS` in all.  They are
+        not constructed (the selection found anchoring it dearer than judging it), only
+        said, so the eye has something to go by."""
+        drawn_set = set(drawn)
+        rels = [r for r in self.plan.relations if r.detail.get("preserved")
+                and part in (r.a, r.b) and (r.b if r.a == part else r.a) in drawn_set]
+        rels.sort(key=lambda r: (-part_size(self.chosen[r.b if r.a == part else r.a].box),
+                                 r.b if r.a == part else r.a, r.type, r.axis))
+        out: list[tuple[str, Any]] = []
+        used: set[int] = set()
+        for r in rels:
+            other = r.b if r.a == part else r.a
+            box, obox = self.chosen[part].box, self.chosen[other].box
+            if not relation_holds(r, box, obox) if r.a == part else not relation_holds(
+                    r, obox, box):
+                continue
+            axes = ((r.axis,) if r.type != "coaxial"
+                    else tuple(a for a in range(3) if a != r.axis))
+            for axis in axes:
+                if axis in used or len(out) >= FREE_POSITIONS:
+                    continue
+                flat = _extent(obox, axis) <= 1e-9 * max(_extent(obox, a) for a in range(3))
+                if r.type == "coplanar":
+                    mine = r.detail.get("a_end" if r.a == part else "b_end", "lo")
+                    theirs = r.detail.get("b_end" if r.a == part else "a_end", "lo")
+                    pos = Anchor(axis, mine, self.chosen[other].id,
+                                 0.0 if theirs == "lo" or flat else 1.0, 1,
+                                 axis if flat else (axis + 1) % 3)
+                else:  # a common mid-plane
+                    if flat:
+                        continue
+                    pos = Anchor(axis, "mid", self.chosen[other].id, 0.5, 3, (axis + 1) % 3)
+                out.append((other, pos))
+                used.add(axis)
+        return out
+
+    def free_specs(self, positions: Sequence[tuple[str, Any]]) -> list[Spec]:
+        """:meth:`free_positions` said briefly, per part drawn before: "Centre it left to
+        right on the base." and "Line up its back and bottom with the base's back and top."."""
+        out: list[Spec] = []
+        for other in _unique(q for q, _ in positions):
+            mine = [a for q, a in positions if q == other]
+            mids = [a.axis for a in mine if a.end == "mid"]
+            if mids:
+                out.append(spec("free_centre", parent=self.say(other),
+                                directions=_join([_raw("directions")[ax] for ax in mids])))
+            ends = [a for a in mine if a.end != "mid"]
+            if ends:
+                out.append(spec("free_align", parent=self.say(other),
+                                sides=_join([self.words.side(a.axis, a.end) for a in ends]),
+                                psides=_join([self.words.side(a.axis, "lo" if a.ratio < 0.5
+                                                              else "hi") for a in ends])))
+        return out
+
     def parents_of(self, part: str) -> set[str]:
         """The parts ``part``'s selected candidate hangs off."""
         return {self.by_id[pid].part for pid in self.chosen[part].parents}
@@ -1100,8 +1162,9 @@ class _Context:
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
             near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
             near.sort(key=lambda q: -part_size(self.chosen[q].box))
+            where = self.free_specs(self.free_positions(part, drawn))
             subs = self.lettered([spec("free_near", other=self.say(near[0])) if near
-                                  else spec("free"), *repeat])
+                                  else spec("free"), *where, *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.free", Part=_cap(name), shape=shape) + note, subs)]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []

@@ -1106,3 +1106,32 @@ def test_a_free_part_is_placed_against_a_part_it_touches(examples):
             assert np.all(a[0] <= b[1] + 100 * tol) and np.all(b[0] <= a[1] + 100 * tol)
             seen += 1
     assert seen  # measured: the mixer's column against the base, train wheels
+
+
+def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
+    """A part the selection leaves unanchored still gets the alignments a teacher would
+    point out: its preserved relations with parts drawn before it, kept by its selected box
+    ("Line up its back and bottom with the base's back and top."); each position holds on
+    the boxes."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        ctx = seq._context(plan, t.views[0], t.paper, t.sequence)
+        for part, cand in chosen.items():
+            if cand.anchors:
+                continue
+            others = [p for p in chosen if p != part]
+            for other, pos in ctx.free_positions(part, others):
+                box, obox = np.asarray(cand.box), np.asarray(chosen[other].box)
+                a = pos.axis
+                mine = 0.5 * (box[0, a] + box[1, a]) if pos.end == "mid" else box[
+                    0 if pos.end == "lo" else 1, a]
+                theirs = obox[0, a] + pos.ratio * (obox[1, a] - obox[0, a])
+                tol = max(r.tolerance for r in plan.relations if {r.a, r.b} == {part, other})
+                assert abs(mine - theirs) <= tol + 1e-9, (name, part, other, pos)
+                checked += 1
+    assert checked >= 3
+    t, plan, views = examples["mixer"]
+    column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
+    assert "Centre it left to right on the base." in column.substeps
+    assert "Line up its back and bottom with the base's back and top." in column.substeps
