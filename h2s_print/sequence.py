@@ -952,7 +952,8 @@ class _Context:
                     stack.append(pp)
         return keep
 
-    def free_positions(self, part: str, drawn: Sequence[str]) -> list[tuple[str, Any]]:
+    def free_positions(self, part: str, drawn: Sequence[str],
+                       axes: Sequence[int] = (0, 1, 2)) -> list[tuple[str, Any]]:
         """Where a part placed by eye lines up with the parts drawn before it, as (part,
         anchor-like position) pairs for :func:`_position`: its preserved relations with them
         that its selected box keeps (a shared face plane: "its back in line with the base's
@@ -961,12 +962,12 @@ class _Context:
         not constructed (the selection found anchoring it dearer than judging it), only
         said, so the eye has something to go by."""
         drawn_set = set(drawn)
+        used: set[int] = set(range(3)) - set(axes)  # only ``axes`` are said
         rels = [r for r in self.plan.relations if r.detail.get("preserved")
                 and part in (r.a, r.b) and (r.b if r.a == part else r.a) in drawn_set]
         rels.sort(key=lambda r: (-part_size(self.chosen[r.b if r.a == part else r.a].box),
                                  r.b if r.a == part else r.a, r.type, r.axis))
         out: list[tuple[str, Any]] = []
-        used: set[int] = set()
         for r in rels:
             other = r.b if r.a == part else r.a
             box, obox = self.chosen[part].box, self.chosen[other].box
@@ -1275,6 +1276,8 @@ class _Context:
             if anchor.end == "mid":
                 closing.append(spec("centred", (), ("centred",), part=name,
                                     line=Pts((con.result.start, con.result.end))))
+        # an axis with no anchor at all: say what it lines up with, as for a part by eye
+        closing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
         closing.append(spec("place_by_eye", shape=shape, dims=dims) if loose
                        else spec("place", shape=shape))
         closing += repeat

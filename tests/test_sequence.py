@@ -1135,3 +1135,12 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
     assert "Centre it left to right on the base." in column.substeps
     assert "Line up its back and bottom with the base's back and top." in column.substeps
+    # a placed part's axes without an anchor get the same, and only those axes
+    t, plan, views = examples["camera"]
+    button = next(s for s in views[("front-left", "novice")].steps if s.part == "shutter_button"
+                  and s.kind == "primitive")
+    assert "Centre it front to back on the grip." in button.substeps
+    ctx = seq._context(plan, t.views[0], t.paper, t.sequence)
+    cand = plan.chosen()["shutter_button"]
+    said = ctx.free_positions("shutter_button", list(plan.chosen()), cand.unguided_axes)
+    assert said and all(pos.axis in cand.unguided_axes for _, pos in said)
