@@ -56,9 +56,42 @@ def write_bytes_atomic(path: Path, data: bytes) -> Path:
     return path
 
 
+_FLAT = json.JSONEncoder(ensure_ascii=False, allow_nan=False, separators=(", ", ": "))
+
+
+def _flat(value: Any) -> bool:
+    """A list of numbers, or of such lists (a point, a box, a polyline): written on one line."""
+    return isinstance(value, list) and all(
+        (isinstance(x, (int, float)) and not isinstance(x, bool)) or _flat(x) for x in value)
+
+
+def _write(value: Any, depth: int, out: list[str]) -> None:
+    pad = "\n" + " " * (depth + 1)
+    if isinstance(value, dict) and value:
+        out.append("{")
+        for i, (k, v) in enumerate(value.items()):
+            out.append(("," if i else "") + pad + _FLAT.encode(str(k)) + ": ")
+            _write(v, depth + 1, out)
+        out.append("\n" + " " * depth + "}")
+    elif isinstance(value, list) and value and not _flat(value):
+        out.append("[")
+        for i, v in enumerate(value):
+            out.append(("," if i else "") + pad)
+            _write(v, depth + 1, out)
+        out.append("\n" + " " * depth + "]")
+    else:  # a scalar, an empty container, or numbers (C encoder, one line)
+        out.append(_FLAT.encode(value))
+
+
 def dumps_json(data: Any) -> str:
-    """Stable, readable JSON text (sorted keys are NOT used: field order is the contract's)."""
-    return json.dumps(data, indent=1, ensure_ascii=False, allow_nan=False) + "\n"
+    """Stable, readable JSON text: one key a line, indented by one space a level, but a list
+    of numbers (a point, a box, a polyline of points) on one line.  Keys keep their order
+    (the contract's field order, not sorted).  Written by :func:`_write` over the C encoder:
+    the stdlib's indenting encoder is pure Python (1 s for the example book's plans, which
+    are mostly numbers); this takes a tenth of it and a third of the bytes."""
+    out: list[str] = []
+    _write(data, 0, out)
+    return "".join(out) + "\n"
 
 
 def write_json_atomic(path: Path, data: Any) -> Path:

@@ -222,3 +222,23 @@ def test_the_main_job_needs_no_optional_package(tmp_path):
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=REPO)
     assert proc.returncode == 0, proc.stderr[-2000:]
     assert (tmp_path / "camera" / "plan.json").is_file()
+
+
+def test_plan_json_text_reads_back_equal_with_points_on_one_line():
+    """plan.json is written by files.dumps_json: it reads back to the same document (keys in
+    the contract's order, not sorted), a list of numbers (a point, a box, a polyline) sits on
+    one line, everything else one item a line, and the text is the same every time."""
+    import json
+
+    from h2s_print.files import dumps_json
+
+    doc = {"schema": "s", "b": 1, "a": [[0.1, 2, -3e-07], [1e300, 0, 5]], "empty": [],
+           "steps": [{"text": "Draw — “AC”", "guides": [], "ok": True, "none": None}],
+           "polyline": [[[0.5, 1.5], [2.5, 3.5]]], "n": 0.30000000000000004}
+    text = dumps_json(doc)
+    assert json.loads(text) == doc and list(json.loads(text)) == list(doc)
+    assert ' "a": [[0.1, 2, -3e-07], [1e+300, 0, 5]],\n' in text
+    assert ' "polyline": [[[0.5, 1.5], [2.5, 3.5]]],\n' in text
+    assert '"text": "Draw — “AC”"' in text and text.endswith("}\n")
+    assert dumps_json(doc) == text
+    assert text.count("\n") == 16
