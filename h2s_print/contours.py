@@ -526,7 +526,11 @@ def occlusion_test(occluders: Sequence[Part], camera: Camera,
     meshes = [_Mesh.of(p) for p in occluders]
     if not meshes:
         return lambda points: np.ones(len(np.asarray(points).reshape(-1, 3)), dtype=bool)
-    engine = _make_engine(settings or ContourSettings(), camera, meshes)
+    return _points_test(_make_engine(settings or ContourSettings(), camera, meshes))
+
+
+def _points_test(engine: Any) -> Callable[[Any], np.ndarray]:
+    """``engine``'s visibility as a function of any array of points: (n,) bool."""
     return lambda points: np.asarray(
         engine.visible(np.asarray(points, dtype=float).reshape(-1, 3)), dtype=bool)
 
@@ -544,8 +548,7 @@ def own_contours(parts: Sequence[Part], camera: Camera, *, crease_deg: float = 3
         m = _Mesh.of(p)
         engine = _make_engine(cs, camera, [m])
         sets.append(_trace_one(m, camera, cs, engine))
-        tests.append(lambda points, e=engine: np.asarray(
-            e.visible(np.asarray(points, dtype=float).reshape(-1, 3)), dtype=bool))
+        tests.append(_points_test(engine))
     return tuple(sets), tuple(tests)
 
 

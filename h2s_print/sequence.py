@@ -963,16 +963,15 @@ class _Context:
         said, so the eye has something to go by."""
         drawn_set = set(drawn)
         used: set[int] = set(range(3)) - set(axes)  # only ``axes`` are said
-        rels = [r for r in self.plan.relations if r.detail.get("preserved")
-                and part in (r.a, r.b) and (r.b if r.a == part else r.a) in drawn_set]
-        rels.sort(key=lambda r: (-part_size(self.chosen[r.b if r.a == part else r.a].box),
-                                 r.b if r.a == part else r.a, r.type, r.axis))
+        rels = [(r.b if r.a == part else r.a, r) for r in self.plan.relations
+                if r.detail.get("preserved") and part in (r.a, r.b)]
+        rels = sorted(((q, r) for q, r in rels if q in drawn_set),
+                      key=lambda qr: (-part_size(self.chosen[qr[0]].box), qr[0], qr[1].type,
+                                      qr[1].axis))
         out: list[tuple[str, Any]] = []
-        for r in rels:
-            other = r.b if r.a == part else r.a
+        for other, r in rels:
             box, obox = self.chosen[part].box, self.chosen[other].box
-            if not relation_holds(r, box, obox) if r.a == part else not relation_holds(
-                    r, obox, box):
+            if not relation_holds(r, *((box, obox) if r.a == part else (obox, box))):
                 continue
             axes = ((r.axis,) if r.type != "coaxial"
                     else tuple(a for a in range(3) if a != r.axis))
@@ -1623,9 +1622,11 @@ class _Context:
                                  shape=shape))
         return out
 
-    def spaced_rows(self, group: Sequence[str], boxes: dict[str, Box]) -> list[list[str]]:
+    def spaced_rows(self, group: Sequence[str], boxes: dict[str, Box]
+                    ) -> list[tuple[list[str], int, Face]]:
         """Rows of identical parts at equal spacing, each to be placed by the equal-spacing
-        construction (:func:`h2s_print.constructions.equal_spacing`) from its first two.
+        construction (:func:`h2s_print.constructions.equal_spacing`) from its first two: (the
+        row's parts in order, its axis, the face the construction is drawn on).
 
         A row is 3 or more of the group's parts with the same intervals on two axes and, along
         the third, the same step from one to the next (within :data:`SPACING_TOL`), no two
@@ -1637,15 +1638,15 @@ class _Context:
         if len(group) < 3:
             return []
         free = list(group)
-        rows: list[list[str]] = []
+        rows: list[tuple[list[str], int, Face]] = []
         while True:
-            found = [r for axis in range(3) for r in self._runs(free, boxes, axis)
-                     if self._spacing_face(r, boxes, axis) is not None]
+            found = [(r, axis, face) for axis in range(3) for r in self._runs(free, boxes, axis)
+                     for face in [self._spacing_face(r, boxes, axis)] if face is not None]
             if not found:
                 return rows
-            best = max(found, key=lambda r: (len(r), [-group.index(q) for q in r]))
+            best = max(found, key=lambda f: (len(f[0]), [-group.index(q) for q in f[0]]))
             rows.append(best)
-            free = [q for q in free if q not in best[2:]]
+            free = [q for q in free if q not in best[0][2:]]
 
     def _runs(self, members: Sequence[str], boxes: dict[str, Box], axis: int
               ) -> list[list[str]]:
@@ -1711,13 +1712,11 @@ class _Context:
                     best = (area, face)
         return None if best is None else best[1]
 
-    def spacing_draft(self, row: Sequence[str], boxes: dict[str, Box], shape: str) -> _Draft:
+    def spacing_draft(self, row: Sequence[str], axis: int, face: Face, boxes: dict[str, Box],
+                      shape: str) -> _Draft:
         """The step placing a row's parts after its first two by equal spacing
-        (:class:`h2s_print.constructions.Spacing`): its sub-steps, lines and the parts' boxes."""
-        first, second = boxes[row[0]], boxes[row[1]]
-        axis = max(range(3), key=lambda a: abs(second[0][a] - first[0][a]))  # the row's
-        face = self._spacing_face(row, boxes, axis)
-        assert face is not None  # spaced_rows keeps only rows with a face
+        (:class:`h2s_print.constructions.Spacing`, along ``axis`` on ``face``:
+        :meth:`spaced_rows`): its sub-steps, lines and the parts' boxes."""
         sp = equal_spacing(face, axis, [(boxes[q][0][axis], boxes[q][1][axis]) for q in row])
         (a, c), (b, d) = sp.diagonals
         placed = [self.say(q) for q in row[2:]]
@@ -1765,7 +1764,7 @@ class _Context:
                 p = group[0]
                 shape = self.words.shape(self.plan.primitive(p).type)
                 rows = self.spaced_rows(group, boxes)
-                spaced = {q for row in rows for q in row[2:]}
+                spaced = {q for row, _, _ in rows for q in row[2:]}
                 rest = [q for q in group[1:] if q not in spaced]
                 repeat = self.same_sentence(rest, shape, keep)
                 made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
@@ -1775,7 +1774,8 @@ class _Context:
                                      _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
                                                self.tol), "") for q in rest]
                     made[-1] = self.merge_group(made[-1], [p, *rest], others, repeat)
-                made += [self.spacing_draft(row, boxes, shape) for row in rows]
+                made += [self.spacing_draft(row, axis, face, boxes, shape)
+                         for row, axis, face in rows]
                 for k, d in enumerate(made):  # lines a later step may say "use" of
                     self._drawn.extend((ln.start, ln.end, len(drafts) + 1 + k) for ln in d.lines)
                 drafts += made

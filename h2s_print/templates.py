@@ -56,10 +56,11 @@ def _validate(name: str, path: Path, node: Any, key: str = "") -> None:
             _validate(name, path, v, f"{key}[{i}]")
     elif isinstance(node, str):
         try:
-            fields = [f for _, f, _, _ in string.Formatter().parse(node) if f is not None]
+            parts = list(string.Formatter().parse(node))
         except ValueError as exc:
             raise H2SError(f"{path}: {key}: not a valid template ({exc}): {node!r}") from None
-        ch = unprintable("".join(lit for lit, _, _, _ in string.Formatter().parse(node)))
+        fields = [f for _, f, _, _ in parts if f is not None]
+        ch = unprintable("".join(lit for lit, _, _, _ in parts))
         if ch is not None:
             raise H2SError(f"{path}: {key}: character {describe(ch)} cannot be printed in the "
                            f"page font (Helvetica: Latin-1 and Windows-1252)")

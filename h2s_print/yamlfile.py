@@ -2,7 +2,7 @@
 
 PyYAML's ``safe_load`` keeps the last of two equal keys in one mapping (``title: A`` then
 ``title: B`` reads as ``B``) without a word.  :func:`read_yaml` parses with the safe loader
-too, and first walks the composed document: a mapping that holds the same key twice raises
+too, and walks the composed document before building it: a mapping that holds the same key twice raises
 :class:`DuplicateKey`, naming the key path and both lines, so the config loader (and the
 template loader) can report it like any other typo.  YAML merge keys (``<<``) may override
 keys, as the YAML spec allows; only keys written twice in one mapping are refused.
@@ -57,7 +57,12 @@ def read_yaml(text: str) -> Any:
         DuplicateKey: a mapping holds the same key twice.
         yaml.YAMLError: the text is not valid YAML.
     """
-    node = yaml.compose(text, Loader=yaml.SafeLoader)
-    if node is not None:
+    loader = yaml.SafeLoader(text)  # what safe_load does, with the check between its steps
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
         _check(node, "")
-    return yaml.safe_load(text)
+        return loader.construct_document(node)
+    finally:
+        loader.dispose()

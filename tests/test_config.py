@@ -203,43 +203,6 @@ def test_yaml_merge_keys_may_still_override():
     assert data["paper"] == {"size": "A3", "margin_mm": 12}
 
 
-def test_a_template_key_given_twice_is_an_error(tmp_path, monkeypatch):
-    """A translator's duplicated key in templates/ is named, not silently replaced."""
-    from h2s_print import templates
-    from h2s_print.errors import H2SError
-
-    (tmp_path / "steps.yaml").write_text("headline:\n  first: A\n  first: B\n")
-    monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
-    templates.load.cache_clear()
-    try:
-        with pytest.raises(H2SError, match=r"headline.first: key given twice \(lines 2 and 3\)"):
-            templates.load("steps")
-    finally:
-        templates.load.cache_clear()
-
-
-@pytest.mark.parametrize("text, message", [
-    ("headline:\n  first: \"{Prat}: the first {shape}.\"\n",
-     r"headline.first: unknown placeholder \{Prat\}"),
-    ("headline:\n  first: \"{Part: the first {shape}.\"\n", r"headline.first: not a valid template"),
-    ("substep:\n  edge: \"Use the edge {}.\"\n", r"substep.edge: unknown placeholder \{\}"),
-])
-def test_template_placeholders_are_checked_when_read(tmp_path, monkeypatch, text, message):
-    """A translator's typo in a placeholder is a clear error when the wording is read, not a
-    KeyError in the middle of a build (issue 15)."""
-    from h2s_print import templates
-    from h2s_print.errors import H2SError
-
-    (tmp_path / "steps.yaml").write_text(text)
-    monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
-    templates.load.cache_clear()
-    try:
-        with pytest.raises(H2SError, match=message):
-            templates.load("steps")
-    finally:
-        templates.load.cache_clear()
-
-
 def test_the_shipped_templates_pass_their_own_check():
     from h2s_print import templates
     templates.load.cache_clear()
@@ -263,15 +226,29 @@ def test_a_title_the_page_font_cannot_print_is_an_error_not_question_marks(tmp_p
     assert "cannot be printed" in str(exc.value)
 
 
-def test_a_template_character_the_font_cannot_print_is_an_error(tmp_path, monkeypatch):
+@pytest.mark.parametrize("text, message", [
+    # a translator's duplicated key is named, not silently replaced
+    ("headline:\n  first: A\n  first: B\n",
+     r"headline.first: key given twice \(lines 2 and 3\)"),
+    # a typo in a placeholder is a clear error when the wording is read, not a KeyError in
+    # the middle of a build (issue 15)
+    ("headline:\n  first: \"{Prat}: the first {shape}.\"\n",
+     r"headline.first: unknown placeholder \{Prat\}"),
+    ("headline:\n  first: \"{Part: the first {shape}.\"\n", r"headline.first: not a valid template"),
+    ("substep:\n  edge: \"Use the edge {}.\"\n", r"substep.edge: unknown placeholder \{\}"),
+    # a character the page font cannot print
+    ("headline:\n  first: \"{Part}: первый {shape}.\"\n",
+     r"headline.first: character 'п' \(U\+043F"),
+])
+def test_a_bad_template_file_is_refused_when_read(tmp_path, monkeypatch, text, message):
     from h2s_print import templates
     from h2s_print.errors import H2SError
 
-    (tmp_path / "steps.yaml").write_text("headline:\n  first: \"{Part}: первый {shape}.\"\n")
+    (tmp_path / "steps.yaml").write_text(text)
     monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
     templates.load.cache_clear()
     try:
-        with pytest.raises(H2SError, match=r"headline.first: character 'п' \(U\+043F"):
+        with pytest.raises(H2SError, match=message):
             templates.load("steps")
     finally:
         templates.load.cache_clear()
