@@ -84,6 +84,12 @@ def _parser() -> argparse.ArgumentParser:
                    help="build a book's tutorials in N processes (default 1; 0: one per CPU)")
     p.add_argument("--no-cache", action="store_true",
                    help="solve every plan again; do not read or write DIR/.h2s-cache")
+
+    p = sub.add_parser("study", help="a drawing study's packets, answer keys and study.json")
+    p.add_argument("config", type=Path, help="a study config (a 'study:' section)")
+    p.add_argument("-o", "--output", type=Path, default=Path("output"), help="output folder")
+    p.add_argument("--no-cache", action="store_true",
+                   help="solve every plan again; do not read or write DIR/.h2s-cache")
     return parser
 
 
@@ -176,7 +182,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "inspect":
             return _inspect(args)
-        if args.command in ("plan", "build"):
+        if args.command in ("plan", "build", "study"):
             from . import templates
             for name in templates.FIELDS:  # wording checked before any work is done
                 templates.load(name)
@@ -184,6 +190,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _plan(args, console)
         if args.command == "build":
             return _build(args, console)
+        if args.command == "study":
+            return _study(args, console)
         return EXIT_BUG  # pragma: no cover - argparse guarantees a command
     except H2SError as exc:
         console.clear()
@@ -322,6 +330,19 @@ def _build(args: argparse.Namespace, console: _Console) -> int:
     if steps:
         folders = sorted({p.parent for p in steps})
         log.info("wrote %d step files in %d folders (%s ...)", len(steps), len(folders), folders[0])
+    return EXIT_OK
+
+
+def _study(args: argparse.Namespace, console: _Console) -> int:
+    from .pipeline import build_study
+
+    written, note = build_study(args.config, args.output, cache=not args.no_cache,
+                                progress=console.progress)
+    console.clear()
+    folders = sorted({p.parent for p in written})
+    log.info("wrote %d files in %s", len(written), ", ".join(str(f) for f in folders))
+    if note:
+        log.warning("%s", note)
     return EXIT_OK
 
 

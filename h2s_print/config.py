@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable
 
@@ -239,6 +239,49 @@ class BookConfig:
     paper: PaperSpec = field(default_factory=PaperSpec)
 
 
+@dataclass(frozen=True, slots=True)
+class StudyObject:
+    """One object of a study: a tutorial config and the view every participant draws.
+
+    Attributes:
+        name: the object's name in the study (file names, assignment.csv, the sheet code).
+        tutorial: its tutorial config, with ``views`` the one view drawn and ``levels`` the
+            study's conditions.
+    """
+
+    name: str
+    tutorial: TutorialConfig
+
+
+@dataclass(frozen=True, slots=True)
+class StudyConfig:
+    """A drawing study (issue 14, README "Drawing studies").
+
+    Attributes:
+        path, name, title: the config file, its stem, the study's title.
+        participants: participant IDs (``participants: 6`` gives ``P01`` .. ``P06``).
+        objects: the objects drawn; every participant draws each once.
+        conditions: the tutorial levels compared (e.g. ``novice`` and the control ``basic``).
+        design: ``fixed-first`` (the paper: ``first``'s drawing always comes first, the
+            objects counterbalanced across conditions) or ``latin-square`` (each participant's
+            drawings in the order of a row of a balanced Latin square).
+        first: the condition drawn first under ``fixed-first``.
+        seed: which participant gets which row of the design (a seeded shuffle).
+        paper: the paper of the packet's cover and questionnaire pages.
+    """
+
+    path: Path
+    name: str
+    title: str
+    participants: tuple[str, ...]
+    objects: tuple[StudyObject, ...]
+    conditions: tuple[str, ...]
+    design: str = "fixed-first"
+    first: str = ""
+    seed: int = 0
+    paper: PaperSpec = field(default_factory=PaperSpec)
+
+
 # --------------------------------------------------------------------------- reading
 
 
@@ -391,17 +434,39 @@ def is_book(data: Any) -> bool:
     return isinstance(data, dict) and "tutorials" in data
 
 
+def is_study(data: Any) -> bool:
+    """True when a parsed config is a drawing study (it has a ``study`` section)."""
+    return isinstance(data, dict) and "study" in data
+
+
 def load_config(path: str | Path) -> TutorialConfig | BookConfig:
     """Read a tutorial or book config file.
+
+    Raises:
+        ConfigError: naming the file and key path of the first problem (a study config
+            too: it is made with ``h2s study``).
+    """
+    path = Path(path)
+    data = _read_yaml(path)
+    if is_study(data):
+        raise ConfigError(f"{path.name}: study: a study config; make it with 'h2s study'")
+    if is_book(data):
+        return _book(path, data, stack=())
+    return _tutorial(path, data)
+
+
+def load_study(path: str | Path) -> StudyConfig:
+    """Read a drawing-study config (a ``study:`` section; README "Drawing studies").
 
     Raises:
         ConfigError: naming the file and key path of the first problem.
     """
     path = Path(path)
     data = _read_yaml(path)
-    if is_book(data):
-        return _book(path, data, stack=())
-    return _tutorial(path, data)
+    if not is_study(data):
+        raise ConfigError(f"{path.name}: study: missing (a study config has a 'study:' "
+                          f"section; tutorials and books are made with 'h2s build')")
+    return _study(path, data)
 
 
 def load_tutorial(path: str | Path) -> TutorialConfig:
@@ -555,6 +620,82 @@ def _output(node: _Node) -> OutputSettings:
         png=node.get("png", lambda n: n.boolean(), False),
         png_dpi=node.get("png_dpi", lambda n: n.integer(30, 1200), 150),
     )
+
+
+#: Participant IDs: printed on packets and sheets, used in file names.
+_PARTICIPANT = r"[A-Za-z0-9][A-Za-z0-9_.-]{0,23}"
+STUDY_DESIGNS = ("fixed-first", "latin-square")
+
+
+def _study(path: Path, data: Any) -> StudyConfig:
+    root = _Node(path.name, "", data)
+    root.mapping(("title", "study", "paper"), required=("study",))
+    node = root.child("study")
+    node.mapping(("participants", "objects", "conditions", "design", "first", "seed"),
+                 required=("participants", "objects", "conditions"))
+    pnode = node.child("participants")
+    if isinstance(pnode.value, int) and not isinstance(pnode.value, bool):
+        count = pnode.integer(1, 999)
+        participants = tuple(f"P{i + 1:0{max(2, len(str(count)))}d}" for i in range(count))
+    else:
+        participants = tuple(n.text(_PARTICIPANT, "an ID of letters, digits, '_', '.' or '-' "
+                                    "(at most 24)") for n in pnode.items())
+        if not participants:
+            raise pnode.fail("expected a count or a list of IDs")
+        for i, p in enumerate(participants):
+            if participants.index(p) != i:
+                raise pnode.child(i).fail(f"participant {p!r} is listed twice")
+    cnode = node.child("conditions")
+    conditions = tuple(n.choice(LEVELS) for n in cnode.items())
+    if not conditions:
+        raise cnode.fail(f"expected at least one of {', '.join(LEVELS)}")
+    if len(set(conditions)) != len(conditions):
+        raise cnode.fail("a condition is listed twice")
+    design = node.get("design", lambda n: n.choice(STUDY_DESIGNS), "fixed-first")
+    first = node.get("first", lambda n: n.choice(conditions), conditions[0])
+    if node.has("first") and design != "fixed-first":
+        raise node.child("first").fail("only for design: fixed-first")
+    objects: list[StudyObject] = []
+    onode = node.child("objects")
+    for entry in onode.items():
+        if isinstance(entry.value, str):
+            rel, view_name, name = entry.text(), None, None
+            at = entry
+        else:
+            entry.mapping(("config", "view", "name"), required=("config",))
+            at = entry.child("config")
+            rel = at.text()
+            view_name = entry.get("view", lambda n: n.text(), None)
+            name = entry.get("name", lambda n: n.text(_NAME, "a file-name-safe name"), None)
+        target = (path.parent / rel).resolve()
+        if not target.is_file():
+            raise at.fail(f"{rel!r}: file not found")
+        sub = _read_yaml(target)
+        if is_book(sub) or is_study(sub):
+            raise at.fail(f"{rel!r} is not a tutorial config")
+        tutorial = _tutorial(target, sub)
+        views = tutorial.views
+        if view_name is not None:
+            views = tuple(v for v in views if v.name == view_name)
+            if not views:
+                raise entry.child("view").fail(
+                    f"{rel!r} has no view {view_name!r} (it has "
+                    f"{', '.join(v.name for v in tutorial.views)})")
+        tutorial = replace(tutorial, views=views[:1], levels=conditions)
+        objects.append(StudyObject(name or tutorial.name, tutorial))
+    if not objects:
+        raise onode.fail("expected at least one tutorial config")
+    names = [o.name for o in objects]
+    for i, n in enumerate(names):
+        if names.index(n) != i:
+            raise onode.child(i).fail(f"object name {n!r} appears twice (give one a 'name:')")
+    return StudyConfig(
+        path=path.resolve(), name=path.stem,
+        title=root.get("title", lambda n: n.printed_text(), path.stem),
+        participants=participants, objects=tuple(objects), conditions=conditions,
+        design=design, first=first if design == "fixed-first" else "",
+        seed=node.get("seed", lambda n: n.integer(0, 2**31 - 1), 0),
+        paper=root.get("paper", _paper, PaperSpec()))
 
 
 def _book(path: Path, data: Any, stack: tuple[Path, ...]) -> BookConfig:

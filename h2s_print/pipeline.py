@@ -582,3 +582,32 @@ def build(config_path: Path, out_dir: Path, *, jobs: int = 1, cache: bool = True
     _remove_stale_steps(written)
     progress(Event(cfg.name, "write", f"wrote {len(written)} files under {out_dir}", 1, True))
     return written
+
+
+def build_study(config_path: Path, out_dir: Path, *, cache: bool = True,
+                progress: Progress | None = None) -> tuple[list[Path], str | None]:
+    """``h2s study``: a drawing study's packets, answer keys, sheets and study.json
+    (:mod:`h2s_print.study`) under ``out_dir/<config name>/``.
+
+    Returns:
+        The paths written and the design's balance warning (or ``None``).
+
+    Raises:
+        H2SError: a user's mistake, naming the file and field; nothing is written then.
+    """
+    from .cache import cache_folder
+    from .config import load_study
+    from .study import make_study
+
+    progress = progress or _quiet
+    cfg = load_study(config_path)
+    out_dir = Path(out_dir)
+    check_writable(out_dir)
+    cache_dir = cache_folder(out_dir) if cache else None
+    results = [plan_tutorial(o.tutorial, cache_dir=cache_dir, progress=progress)
+               for o in cfg.objects]
+    progress(Event(cfg.name, "study", f"laying out {len(cfg.participants)} packets"))
+    built = make_study(cfg, results, out_dir / cfg.name)
+    written = write_many_atomic(list(built.files))
+    progress(Event(cfg.name, "write", f"wrote {len(written)} files under {out_dir}", 1, True))
+    return written, built.note

@@ -22,8 +22,8 @@ def update_golden(request) -> bool:
     return bool(request.config.getoption("--update-golden"))
 
 
-#: The example tutorials (every config but the book): the paper's four objects and the study.
-EXAMPLES = sorted(p.stem for p in CONFIGS.glob("*.yaml") if p.stem != "book")
+#: The example tutorials (every config but the book and the study): the paper's four objects.
+EXAMPLES = sorted(p.stem for p in CONFIGS.glob("*.yaml") if p.stem not in ("book", "study"))
 #: The levels with guides, and all levels a tutorial can have.
 GUIDED = ("novice", "apprentice", "master")
 

@@ -1,0 +1,258 @@
+"""Drawing studies (issue 14): the design's counterbalancing, the packets, stamps and codes."""
+
+from __future__ import annotations
+
+import csv
+import io
+import itertools
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from h2s_print.cli import main
+from h2s_print.studyfile import parse_code, read_study
+from h2s_print.study import assign, balance_note, design_rows, williams_rows
+
+from conftest import CONFIGS
+
+OBJECTS = ("camera", "mixer")
+CONDITIONS = ("novice", "basic")
+PARTICIPANTS = tuple(f"P{i:02d}" for i in range(1, 7))
+
+
+# ----------------------------------------------------------------------------- the design
+
+
+@pytest.mark.parametrize("k", range(1, 8))
+def test_williams_rows_are_a_balanced_latin_square(k):
+    rows = williams_rows(k)
+    assert len(rows) == (k if k % 2 == 0 else 2 * k) or k == 1
+    for r in rows:
+        assert sorted(r) == list(range(k))
+    # every item at every position equally often
+    for pos in range(k):
+        counts = Counter(r[pos] for r in rows)
+        assert len(set(counts.values())) == 1 and len(counts) == k
+    # every ordered pair of neighbours equally often
+    if k > 1:
+        pairs = Counter((r[i], r[i + 1]) for r in rows for i in range(k - 1))
+        assert len(pairs) == k * (k - 1) and len(set(pairs.values())) == 1
+
+
+@pytest.mark.parametrize("design", ["fixed-first", "latin-square"])
+def test_design_fills_every_cell_equally(design):
+    n = design_rows(len(OBJECTS), len(CONDITIONS), design) * 3
+    people = [f"P{i}" for i in range(n)]
+    plan = assign(people, OBJECTS, CONDITIONS, design, "novice", seed=5)
+    assert len(plan) == n * len(OBJECTS)
+    # every participant draws every object once, in orders 1..k
+    for p in people:
+        mine = [a for a in plan if a.participant == p]
+        assert sorted(a.object for a in mine) == sorted(OBJECTS)
+        assert [a.order for a in mine] == list(range(1, len(OBJECTS) + 1))
+        assert {a.condition for a in mine} == set(CONDITIONS)  # as many objects as conditions
+    cells = Counter((a.object, a.condition) for a in plan)
+    assert set(cells) == set(itertools.product(OBJECTS, CONDITIONS))
+    assert len(set(cells.values())) == 1
+    if design == "fixed-first":
+        # the paper's rule: the guided tutorial always first
+        assert all(a.condition == "novice" for a in plan if a.order == 1)
+    else:
+        # each object first equally often, each condition first equally often
+        firsts = Counter(a.object for a in plan if a.order == 1)
+        assert len(set(firsts.values())) == 1 and len(firsts) == len(OBJECTS)
+        firsts = Counter(a.condition for a in plan if a.order == 1)
+        assert len(set(firsts.values())) == 1 and len(firsts) == len(CONDITIONS)
+
+
+def test_design_is_seeded():
+    a = assign(PARTICIPANTS, OBJECTS, CONDITIONS, "fixed-first", "novice", seed=1)
+    assert a == assign(PARTICIPANTS, OBJECTS, CONDITIONS, "fixed-first", "novice", seed=1)
+    others = {assign(PARTICIPANTS, OBJECTS, CONDITIONS, "fixed-first", "novice", seed=s)
+              for s in range(2, 8)}
+    assert any(o != a for o in others)
+
+
+def test_an_unbalanced_count_is_said():
+    assert balance_note(6, 2, 2, "fixed-first") is None
+    note = balance_note(7, 2, 2, "fixed-first")
+    assert note is not None and "7 participants" in note and "8 participants" in note
+    assert balance_note(6, 2, 2, "latin-square") is not None  # 4 a turn: 8 would balance
+
+
+# ----------------------------------------------------------------------------- a built study
+
+
+def _write_config(folder: Path, text: str) -> Path:
+    path = folder / "trial.yaml"
+    path.write_text(text.replace("@", str(CONFIGS)), encoding="utf-8")
+    return path
+
+
+STUDY = """title: Trial study
+study:
+  participants: 6
+  objects: ["@/camera.yaml", {config: "@/mixer.yaml", view: front-left}]
+  conditions: [novice, basic]
+  design: fixed-first
+  seed: 3
+"""
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("study")
+    config = _write_config(folder, STUDY)
+    out = folder / "out"
+    assert main(["-q", "study", str(config), "-o", str(out)]) == 0
+    return out / "trial"
+
+
+def _pdf_pages(path: Path):
+    from pypdf import PdfReader
+
+    return [p.extract_text() for p in PdfReader(str(path)).pages]
+
+
+def _page_gray(path: Path, index: int, dpi: float = 300) -> np.ndarray:
+    import pypdfium2 as pdfium
+
+    page = pdfium.PdfDocument(str(path))[index]
+    return np.asarray(page.render(scale=dpi / 72, grayscale=True).to_pil().convert("L"))
+
+
+def test_study_writes_its_files(built):
+    names = sorted(p.relative_to(built).as_posix() for p in built.rglob("*") if p.is_file())
+    assert names == sorted(
+        ["study.json", "assignment.csv", "answer-keys.pdf"]
+        + [f"packets/{p}.pdf" for p in PARTICIPANTS]
+        + [f"sheets/{o}-{c}.png" for o in OBJECTS for c in CONDITIONS])
+    study = read_study(built)
+    rows = list(csv.DictReader(io.StringIO((built / "assignment.csv").read_text())))
+    assert len(rows) == len(study.drawings) == 12
+    for row, d in zip(rows, study.drawings):
+        assert (row["participant"], row["object"], row["condition"], row["code"]) == (
+            d.participant, d.object, d.condition, d.code)
+        assert parse_code(d.code) == (study.study_id, d.row)
+    cells = Counter((d.object, d.condition) for d in study.drawings)
+    assert sorted(cells.values()) == [3, 3, 3, 3]
+    assert all(d.condition == "novice" for d in study.drawings if d.order == 1)
+
+
+def test_every_sheet_is_stamped_and_its_code_reads_back(built):
+    """Each packet's drawing sheets: the stamp names participant, object and condition, and the
+    QR code decoded from the rendered page is that drawing's code (and nothing else is)."""
+    import cv2
+
+    study = read_study(built)
+    titles = {"camera": "Digital SLR camera", "mixer": "Kitchen stand mixer"}
+    names = {"novice": "with guides", "basic": "without guides"}
+    for participant in PARTICIPANTS:
+        path = built / "packets" / f"{participant}.pdf"
+        texts = _pdf_pages(path)
+        mine = [d for d in study.drawings if d.participant == participant]
+        sheets = [i for i, t in enumerate(texts) if "drawing sheet (print at 100%)" in t]
+        assert len(sheets) == len(mine)
+        for index, d in zip(sheets, mine):
+            text = texts[index]
+            assert participant in text and titles[d.object] in text
+            assert names[d.condition] in text and f"drawing {d.order} of 2" in text
+            gray = _page_gray(path, index)
+            found, _, _ = cv2.QRCodeDetector().detectAndDecode(gray)
+            assert found == d.code, (participant, d.order)
+
+
+def test_primer_once_and_never_for_control_only(tmp_path):
+    """One object, two conditions: half the participants draw only the control tutorial and
+    their packets carry no primer and no word of guides; the others get the primer once."""
+    config = _write_config(tmp_path, STUDY.replace(
+        ', {config: "@/mixer.yaml", view: front-left}', "").replace("participants: 6",
+                                                                     "participants: 4"))
+    out = tmp_path / "out"
+    assert main(["-q", "study", str(config), "-o", str(out)]) == 0
+    study = read_study(out / "trial")
+    kinds = Counter()
+    for participant in study.participants:
+        texts = _pdf_pages(out / "trial" / "packets" / f"{participant}.pdf")
+        (d,) = [d for d in study.drawings if d.participant == participant]
+        primers = sum("Primer: constructions in perspective" in t for t in texts)
+        if d.condition == "basic":
+            assert primers == 0
+            assert not any("guide" in t.lower() and "without guides" not in t.lower()
+                           for t in texts)
+        else:
+            assert primers == 1
+        kinds[d.condition] += 1
+    assert kinds == {"novice": 2, "basic": 2}
+
+
+def test_a_packet_with_two_guided_drawings_has_one_primer(tmp_path):
+    config = _write_config(tmp_path, STUDY.replace("conditions: [novice, basic]",
+                                                   "conditions: [novice]"))
+    out = tmp_path / "out"
+    assert main(["-q", "study", str(config), "-o", str(out)]) == 0
+    texts = _pdf_pages(out / "trial" / "packets" / "P01.pdf")
+    assert sum("Primer: constructions in perspective" in t for t in texts) == 1
+    assert not any("Which tutorial did you prefer?" in t for t in texts)  # one condition
+
+
+def test_answer_keys_are_the_finished_drawings_at_true_scale(built):
+    from pypdf import PdfReader
+
+    study = read_study(built)
+    pages = PdfReader(str(built / "answer-keys.pdf")).pages
+    assert len(pages) == len(study.sheets)
+    for page, key in zip(pages, study.sheets.values()):
+        w_mm = float(page.mediabox.width) * 25.4 / 72
+        h_mm = float(page.mediabox.height) * 25.4 / 72
+        assert (round(w_mm, 1), round(h_mm, 1)) == (round(key.paper_mm[0], 1),
+                                                  round(key.paper_mm[1], 1))
+        assert f"condition {key.condition}" in page.extract_text()
+
+
+def test_study_is_deterministic(built, tmp_path):
+    config = _write_config(tmp_path, STUDY)
+    out = tmp_path / "again"
+    assert main(["-q", "study", str(config), "-o", str(out), "--no-cache"]) == 0
+    for path in built.rglob("*"):
+        if path.is_file():
+            assert (out / "trial" / path.relative_to(built)).read_bytes() == path.read_bytes(), path
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("design: fixed-first", "design: random"), "study.design: expected one of"),
+    (("participants: 6", "participants: [A, B, A]"), "study.participants[2]: participant 'A' is listed twice"),
+    (("conditions: [novice, basic]", "conditions: [novice, expert]"), "study.conditions[1]: expected one of"),
+    (("seed: 3", "seed: 3\n  colour: red"), "study.colour: unknown key"),
+    (("seed: 3", "seed: 3\n  seed: 4"), "study.seed: key given twice"),
+    (("@/camera.yaml", "@/nothere.yaml"), "study.objects[0]: '"),
+    (("view: front-left", "view: side"), "study.objects[1].view: "),
+])
+def test_bad_study_configs_say_where(tmp_path, capsys, edit, message):
+    config = _write_config(tmp_path, STUDY.replace(*edit))
+    out = tmp_path / "out"
+    assert main(["study", str(config), "-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "trial.yaml" in err[0] and message in err[0], err
+    assert not out.exists() or not any(out.rglob("*.pdf"))
+
+
+def test_build_refuses_a_study_and_study_refuses_a_tutorial(capsys):
+    assert main(["build", str(CONFIGS / "study.yaml"), "-o", "/nonexistent/x"]) == 2
+    assert "make it with 'h2s study'" in capsys.readouterr().err
+    assert main(["study", str(CONFIGS / "camera.yaml"), "-o", "/nonexistent/x"]) == 2
+    assert "study: missing" in capsys.readouterr().err
+
+
+def test_sheet_margin_must_hold_the_code(tmp_path, capsys):
+    narrow = tmp_path / "narrow.yaml"
+    narrow.write_text((CONFIGS / "camera.yaml").read_text().replace(
+        "margin_mm: 12", "margin_mm: 8").replace("models/camera.glb",
+                                                 str(CONFIGS / "models" / "camera.glb")))
+    config = _write_config(tmp_path, STUDY.replace("@/camera.yaml", str(narrow)))
+    assert main(["study", str(config), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert "narrow.yaml: paper.margin_mm: a study sheet needs at least 12 mm" in err
+    assert not (tmp_path / "out" / "trial").exists()
