@@ -90,6 +90,18 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", type=Path, default=Path("output"), help="output folder")
     p.add_argument("--no-cache", action="store_true",
                    help="solve every plan again; do not read or write DIR/.h2s-cache")
+
+    p = sub.add_parser("score", help="score scanned drawing sheets of a study")
+    p.add_argument("scans", type=Path, nargs="+", metavar="SCAN",
+                   help="scans or photos of filled sheets: PNG, JPEG or PDF (200 dpi or more)")
+    p.add_argument("--study", type=Path, required=True, metavar="DIR",
+                   help="the study folder (made by 'h2s study')")
+
+    p = sub.add_parser("rank", help="pair pages for raters; with --judgments, Bradley-Terry "
+                                    "strengths")
+    p.add_argument("study", type=Path, help="the study folder (made by 'h2s study')")
+    p.add_argument("--judgments", type=Path, metavar="CSV",
+                   help="the raters' filled judgments.csv: fit and write the strengths")
     return parser
 
 
@@ -182,7 +194,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args.command == "inspect":
             return _inspect(args)
-        if args.command in ("plan", "build", "study"):
+        if args.command in ("plan", "build", "study", "rank"):
             from . import templates
             for name in templates.FIELDS:  # wording checked before any work is done
                 templates.load(name)
@@ -192,6 +204,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _build(args, console)
         if args.command == "study":
             return _study(args, console)
+        if args.command == "rank":
+            return _rank(args)
+        if args.command == "score":
+            return _score(args)
         return EXIT_BUG  # pragma: no cover - argparse guarantees a command
     except H2SError as exc:
         console.clear()
@@ -343,6 +359,26 @@ def _study(args: argparse.Namespace, console: _Console) -> int:
     log.info("wrote %d files in %s", len(written), ", ".join(str(f) for f in folders))
     if note:
         log.warning("%s", note)
+    return EXIT_OK
+
+
+def _score(args: argparse.Namespace) -> int:
+    from .pipeline import score_study
+
+    written = score_study(args.scans, args.study)
+    for path in written:
+        log.info("wrote %s", path)
+    return EXIT_OK
+
+
+def _rank(args: argparse.Namespace) -> int:
+    from .pipeline import rank_study
+
+    written, kept = rank_study(args.study, args.judgments)
+    for path in written:
+        log.info("wrote %s", path)
+    for what in kept:
+        log.info("kept %s", what)
     return EXIT_OK
 
 

@@ -611,3 +611,147 @@ def build_study(config_path: Path, out_dir: Path, *, cache: bool = True,
     written = write_many_atomic(list(built.files))
     progress(Event(cfg.name, "write", f"wrote {len(written)} files under {out_dir}", 1, True))
     return written, built.note
+
+
+def rank_study(folder: Path, judgments: Path | None = None
+               ) -> tuple[list[Path], list[str]]:
+    """``h2s rank``: pair pages for raters, or (``judgments`` given) the Bradley-Terry fit
+    (:mod:`h2s_print.rank`), under ``folder/rank/``.
+
+    Without ``judgments``: ``pairs.pdf`` and ``pairs.csv`` from the drawings ``h2s score``
+    registered, and the blank ``judgments.csv`` raters fill in (never over a filled one).  An
+    existing ``pairs.csv`` with other pairs (more scans scored since) is an error rather than
+    replaced: judgments already collected refer to it.  With ``judgments``: that file checked
+    against ``pairs.csv``, then ``strengths.csv``, ``conditions.csv`` and ``<object>.png``.
+
+    Returns:
+        The paths written and what was left alone (to say on the terminal).
+
+    Raises:
+        H2SError: a user's mistake, naming the file (and line); nothing is written then.
+    """
+    from . import rank
+    from .studyfile import StudyError, read_study
+
+    study = read_study(folder)
+    out = Path(folder) / rank.RANK_DIR
+    kept: list[str] = []
+    if judgments is None:
+        scored = rank.read_scored(study)
+        pairs = rank.pairs(study, scored, study.seed)
+        pairs_path = out / rank.PAIRS_CSV
+        if pairs_path.exists() and rank.read_pairs(pairs_path, study) != pairs:
+            raise StudyError(f"{pairs_path}: holds other pairs than the scored drawings make now "
+                             f"(more scans were scored since); judgments refer to it, so it is "
+                             f"not replaced: move the rank folder away to make new pair pages")
+        images = rank.read_images(study, scored)
+        files = [(out / rank.PAIRS_PDF, rank.pair_pages_pdf(study, pairs, images)),
+                 (pairs_path, rank.pairs_csv(pairs).encode("utf-8"))]
+        template = out / rank.JUDGMENTS_CSV
+        if template.exists():
+            kept.append(f"{template} (exists; not replaced)")
+        else:
+            files.append((template, rank.judgments_template(pairs).encode("utf-8")))
+    else:
+        pairs = rank.read_pairs(out / rank.PAIRS_CSV, study)
+        ranking = rank.fit(rank.read_judgments(judgments, pairs), study)
+        files = [(out / rank.STRENGTHS_CSV, rank.strengths_csv(ranking).encode("utf-8")),
+                 (out / rank.CONDITIONS_CSV, rank.conditions_csv(ranking).encode("utf-8"))]
+        files += [(out / rank.plot_file(obj), rank.plot_png(ranking, obj))
+                  for obj in ranking.objects]
+    check_writable(out)
+    return write_many_atomic(files), kept
+
+
+#: ``h2s score``'s folder inside a study folder, and its files.
+SCORES_DIR = "scores"
+DRAWINGS_HEADER = ("row", "participant", "object", "condition", "sheet", "file")
+
+
+def _read_csv(path: Path, header: Sequence[str]) -> list[dict[str, str]]:
+    """The rows of one of h2s's own CSV files, or [] when it does not exist yet."""
+    import csv
+
+    from .studyfile import StudyError
+
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        return []
+    except (OSError, UnicodeDecodeError) as exc:
+        raise StudyError(f"{path}: cannot be read ({exc})") from None
+    reader = csv.DictReader(text.splitlines())
+    if tuple(reader.fieldnames or ()) != tuple(header):
+        raise StudyError(f"{path}: expected the columns {','.join(header)}")
+    return list(reader)
+
+
+def _csv_bytes(header: Sequence[str], rows: Sequence[dict]) -> bytes:
+    import csv
+    import io
+
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=list(header), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return buf.getvalue().encode("utf-8")
+
+
+def score_study(scans: Sequence[Path], folder: Path) -> list[Path]:
+    """``h2s score``: score scanned sheets of the study in ``folder`` (:mod:`h2s_print.score`).
+
+    Writes under ``folder/scores/``: ``scores.csv`` (one row per drawing and part, ``*`` the
+    whole drawing), ``drawings.csv`` and ``drawings/<row>.png`` (each registered drawing,
+    255 where a pencil stroke is: what ``h2s rank`` shows raters), and
+    ``overlays/<row>-<participant>-<object>.png`` (the registered scan with the model's lines
+    in orange, to check by eye).  Scores add up over runs: a drawing scored again replaces
+    its earlier rows, others stay.  Two scans of one drawing in one run are an error.
+
+    Raises:
+        H2SError: a scan that cannot be scored or a study folder that does not check, naming
+            the file (and page); nothing is written then.
+    """
+    import cv2
+    import numpy as np
+
+    from .score import CSV_FIELDS, overlay, score_rows, score_scan
+    from .studyfile import StudyError, read_study
+
+    study = read_study(folder)
+    out = Path(folder) / SCORES_DIR
+    cache: dict = {}
+    results = [r for path in scans for r in score_scan(path, study, cache)]
+    seen: dict[int, str] = {}
+    for r in results:
+        if r.drawing.row in seen:
+            raise StudyError(f"{r.source}: drawing {r.drawing.row} ({r.drawing.participant}, "
+                             f"{r.drawing.object}) was scanned twice: also {seen[r.drawing.row]}")
+        seen[r.drawing.row] = r.source
+    keep_scores = [row for row in _read_csv(out / "scores.csv", CSV_FIELDS)
+                   if not any(row["participant"] == r.drawing.participant
+                              and row["order"] == str(r.drawing.order) for r in results)]
+    keep_drawings = [row for row in _read_csv(out / "drawings.csv", DRAWINGS_HEADER)
+                     if int(row["row"]) not in seen]
+    files: list[tuple[Path, bytes]] = []
+    drawings = list(keep_drawings)
+    scores = list(keep_scores)
+    for r in results:
+        d = r.drawing
+        ok, png = cv2.imencode(".png", np.where(r.registered_drawing, 255, 0).astype(np.uint8))
+        if not ok:  # pragma: no cover - OpenCV always encodes a uint8 image
+            raise RuntimeError("PNG encoding failed")
+        name = f"drawings/{d.row}.png"
+        files.append((out / name, png.tobytes()))
+        files.append((out / "overlays" / f"{d.row}-{d.participant}-{d.object}.png",
+                      overlay(r.registered, r.key)))
+        drawings.append({"row": d.row, "participant": d.participant, "object": d.object,
+                         "condition": d.condition, "sheet": d.sheet, "file": name})
+        scores += score_rows(r)
+    drawings.sort(key=lambda row: int(row["row"]))
+    order = {(d.participant, str(d.order)): d.row for d in study.drawings}
+    scores.sort(key=lambda row: (order.get((row["participant"], str(row["order"])), -1),
+                                 row["part"] != "*"))
+    files.append((out / "scores.csv", _csv_bytes(CSV_FIELDS, scores)))
+    files.append((out / "drawings.csv", _csv_bytes(DRAWINGS_HEADER, drawings)))
+    check_writable(out)
+    return write_many_atomic(files)

@@ -43,6 +43,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",
         "last", "level", "minutes", "n", "page", "pages", "the_part", "title", "vdir", "view",
         "vp")),
+    "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((
         "condition", "fill", "n", "n_drawings", "object", "page", "pages", "participant",
         "questionnaire", "rows", "sheet", "title", "total", "view")),

@@ -256,3 +256,125 @@ def test_sheet_margin_must_hold_the_code(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "narrow.yaml: paper.margin_mm: a study sheet needs at least 12 mm" in err
     assert not (tmp_path / "out" / "trial").exists()
+
+
+# ----------------------------------------------------------------------------- scored and ranked
+
+
+#: Per camera drawing (participant order), how far its parts are moved, mm: growing errors.
+ERRORS_MM = (0.0, 0.8, 1.6, 2.4, 3.2, 4.8)
+
+
+def _sheet_scan(study, drawing, error_mm: float, angle: float):
+    """A scan of ``drawing``'s stamped sheet (rendered from its packet) pencilled with the
+    model's lines, every part moved ``error_mm`` in a seeded direction, rotated ``angle``."""
+    import math
+
+    from _scans import RENDER_DPI, pencil, scan
+
+    path = study.folder / "packets" / f"{drawing.participant}.pdf"
+    texts = _pdf_pages(path)
+    index = [i for i, t in enumerate(texts) if "drawing sheet (print at 100%)" in t][
+        drawing.order - 1]
+    page = _page_gray(path, index, RENDER_DPI)
+    key = study.sheets[drawing.sheet]
+    rng = np.random.default_rng(drawing.row)
+    moves = {}
+    for part, _ in key.lines:
+        a = rng.uniform(0, 2 * math.pi)
+        moves[part] = (error_mm * math.cos(a), error_mm * math.sin(a))
+    img, _ = scan(pencil(page, key, moves), key, angle_deg=angle, dpi=220, noise=2.0,
+                  seed=drawing.row)
+    return img
+
+
+@pytest.fixture(scope="module")
+def scored(built, tmp_path_factory):
+    """A copy of the built study with its six camera drawings scanned and scored."""
+    import shutil
+
+    import cv2
+
+    folder = tmp_path_factory.mktemp("scored") / "trial"
+    shutil.copytree(built, folder)
+    study = read_study(folder)
+    cams = [d for d in study.drawings if d.object == "camera"]
+    scans = []
+    for d, err in zip(cams, ERRORS_MM):
+        p = folder.parent / f"scan-{d.participant}.png"
+        p.write_bytes(cv2.imencode(".png", _sheet_scan(study, d, err, 7.0 * d.row - 20))[1])
+        scans.append(p)
+    assert main(["-q", "score", *map(str, scans), "--study", str(folder)]) == 0
+    return study, cams, scans
+
+
+def test_score_writes_figures_drawings_and_overlays(scored):
+    study, cams, _ = scored
+    out = study.folder / "scores"
+    rows = list(csv.DictReader(io.StringIO((out / "scores.csv").read_text())))
+    overall = {r["participant"]: r for r in rows if r["part"] == "*"}
+    assert sorted(overall) == sorted(d.participant for d in cams)
+    err = [float(overall[d.participant]["to_drawing_mm"]) for d in cams]
+    assert err == sorted(err) and err[0] < 0.3 < err[-1]  # larger known errors score worse
+    offsets = [float(overall[d.participant]["offset_mm"]) for d in cams]
+    for measured, true in zip(offsets, ERRORS_MM):
+        assert abs(measured - true) < 0.5, (offsets, ERRORS_MM)
+    listed = list(csv.DictReader(io.StringIO((out / "drawings.csv").read_text())))
+    assert [int(r["row"]) for r in listed] == sorted(d.row for d in cams)
+    for d in cams:
+        assert (out / "drawings" / f"{d.row}.png").is_file()
+        assert (out / "overlays" / f"{d.row}-{d.participant}-camera.png").is_file()
+
+
+def test_scoring_again_replaces_that_drawings_rows(scored):
+    study, cams, scans = scored
+    out = study.folder / "scores"
+    before = (out / "scores.csv").read_text()
+    assert main(["-q", "score", str(scans[0]), "--study", str(study.folder)]) == 0
+    assert (out / "scores.csv").read_text() == before  # same scan: same rows, none doubled
+
+
+@pytest.mark.parametrize("content", [b"", b"not an image at all"])
+def test_a_bad_scan_stops_everything(scored, tmp_path, capsys, content):
+    study, _, scans = scored
+    bad = tmp_path / "bad.png"
+    bad.write_bytes(content)
+    stamp = {p: p.stat().st_mtime_ns for p in (study.folder / "scores").rglob("*")}
+    assert main(["score", str(scans[1]), str(bad), "--study", str(study.folder)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "bad.png" in err[0]
+    assert {p: p.stat().st_mtime_ns for p in (study.folder / "scores").rglob("*")} == stamp
+
+
+def test_the_same_drawing_twice_in_one_run_is_an_error(scored, capsys):
+    study, _, scans = scored
+    assert main(["score", str(scans[2]), str(scans[2]), "--study", str(study.folder)]) == 2
+    assert "was scanned twice" in capsys.readouterr().err
+
+
+def test_rank_pages_then_strengths_follow_the_judgments(scored, tmp_path):
+    """Pair pages for every pair of the six scored camera drawings; raters who always pick
+    the drawing with the smaller error give strengths in that order."""
+    study, cams, _ = scored
+    out = study.folder / "rank"
+    assert main(["-q", "rank", str(study.folder)]) == 0
+    assert len(_pdf_pages(out / "pairs.pdf")) == 15
+    template = list(csv.DictReader(io.StringIO((out / "judgments.csv").read_text())))
+    assert len(template) == 15 and all(r["winner"] == "" for r in template)
+    error = {d.row: e for d, e in zip(cams, ERRORS_MM)}
+    for r in template:
+        r["winner"] = "a" if error[int(r["a"])] < error[int(r["b"])] else "b"
+    filled = tmp_path / "filled.csv"
+    with filled.open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(template[0]))
+        w.writeheader()
+        w.writerows(template * 3)
+    assert main(["-q", "rank", str(study.folder), "--judgments", str(filled)]) == 0
+    strengths = list(csv.DictReader(io.StringIO((out / "strengths.csv").read_text())))
+    ranked = [int(r["row"]) for r in strengths if r["object"] == "camera"]
+    assert ranked == [d.row for d in cams]  # strongest first = smallest error first
+    assert (out / "camera.png").is_file()
+    # a second 'h2s rank' keeps the raters' file
+    (out / "judgments.csv").write_text("kept")
+    assert main(["-q", "rank", str(study.folder)]) == 0
+    assert (out / "judgments.csv").read_text() == "kept"
