@@ -55,7 +55,7 @@ def main() -> None:
         first = folder / "packets" / f"{cams[0].participant}.pdf"
         doc = pdfium.PdfDocument(str(first))
         texts = [doc[i].get_textpage().get_text_range() for i in range(len(doc))]
-        sheets = [i for i, t in enumerate(texts) if "drawing sheet (print at 100%)" in t]
+        sheets = [i for i, t in enumerate(texts) if "this bar measures 100 mm" in t]
         quest = next(i for i, t in enumerate(texts) if t.startswith("After drawing"))
         _save("study-cover.png", _page(first, 0, 60), 420)
         _save("study-questionnaire.png", _page(first, quest, 60), 420)
@@ -64,7 +64,7 @@ def main() -> None:
             pdf = folder / "packets" / f"{d.participant}.pdf"
             doc = pdfium.PdfDocument(str(pdf))
             idx = [i for i in range(len(doc))
-                   if "drawing sheet (print at 100%)" in doc[i].get_textpage().get_text_range()
+                   if "this bar measures 100 mm" in doc[i].get_textpage().get_text_range()
                    ][d.order - 1]
             page = _page(pdf, idx, RENDER_DPI)
             if d is cams[0]:

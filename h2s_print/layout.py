@@ -949,7 +949,7 @@ def _final_strokes(plan: ViewPlan, final: Sequence[Stroke]) -> tuple[Stroke, ...
 
 
 def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
-                final: Sequence[Stroke]) -> Page:
+                final: Sequence[Stroke], level: str, how: Sequence[str] | None = None) -> Page:
     items: list[Item] = []
     x0, y0, x1, y1 = f.box
     landscape = f.width > f.height
@@ -960,7 +960,7 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
     heading, top = _paragraph(x0, top - 4, text_w, title, 26, font="Helvetica-Bold", role="title")
     items += heading
     top -= 6
-    facts = [_t("cover.view", view=view_label), _t("cover.level", level=_level_name(plan.level)),
+    facts = [_t("cover.view", view=view_label), _t("cover.level", level=level),
              _t("cover.steps", n=len(plan.steps)),
              _t("cover.time", minutes=estimate_minutes(plan))]
     for fact in facts:
@@ -973,7 +973,7 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
     items += how_h
     top -= 2
     how_key = "cover.how_basic" if plan.level == "basic" else "cover.how"
-    for line in templates.lookup("pages", how_key):
+    for line in how if how is not None else templates.lookup("pages", how_key):
         para, top = _paragraph(x0 + 4, top, text_w - 4, plain_text(line), 9.5, role="how")
         items.append(Circle(x0 + 1.2, para[0].y_mm + 1.1, 0.6, None, 0.0, "black", "bullet"))
         items += para
@@ -1105,10 +1105,9 @@ def _step_geometry(f: _Frame, plan: ViewPlan) -> tuple[list[Box2], list[_View], 
     return slots, views, text_h
 
 
-def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[Page]:
+def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str) -> list[Page]:
     n = len(plan.steps)
     per = _steps_per_page(plan)
-    level = _level_name(plan.level)
     size = 11.0 if per == 1 else 10.0
     pages = []
     legend_keys = _legend_keys(plan)
@@ -1147,11 +1146,11 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str) -> list[
     return pages
 
 
-def _final_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
+def _final_page(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str,
                 final: Sequence[Stroke]) -> Page:
     items: list[Item] = []
     head, top = _header(f, _t("final.heading"),
-                        _t("step.header", title=title, view=view_label, level=_level_name(plan.level)))
+                        _t("step.header", title=title, view=view_label, level=level))
     items += head
     x0, _, x1, _ = f.box
     view = _step_geometry(f, plan)[1][0]  # the step pages' picture: same scale and place
@@ -1175,7 +1174,8 @@ def _check_paper(paper: PaperSpec) -> float:
 
 def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label: str,
                      grid: bool = False,
-                     final: tuple[Stroke, ...] = (), margin_mm: float | None = None
+                     final: tuple[Stroke, ...] = (), margin_mm: float | None = None,
+                     level_label: str | None = None, how: Sequence[str] | None = None
                      ) -> tuple[Page, ...]:
     """Every page of one workbook (one model, view and level), laid out in mm.
 
@@ -1192,6 +1192,10 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
         final: the finished drawing's strokes (sheet mm); default: every step's strokes.
         margin_mm: margin of the drawing sheet's frame, mm; default ``paper.margin_mm``.
         grid: a perspective grid on the drawing sheet (:func:`lay_out_sheet`).
+        level_label: the level as the reader sees it (default ``templates/pages.yaml``
+            ``levels``): a study's packets name conditions neutrally, never "novice".
+        how: the cover's "how to use" lines, replacing ``cover.how`` (a study packet's
+            sheet is not the workbook's last page).
 
     Returns:
         The pages in print order, page numbers in the footers, bookmarks attached.
@@ -1206,15 +1210,16 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
     f = _Frame(paper.width_mm, paper.height_mm, margin)
     title = plain_text(title)
     view_label = plain_text(view_label)
-    level = _level_name(plan.level)
+    level = plain_text(level_label) if level_label is not None else _level_name(plan.level)
     right = _t("step.header", title=title, view=view_label, level=level)
-    pages: list[Page] = [_cover_page(f, title, plan, view_label, final)]
+    pages: list[Page] = [_cover_page(f, title, plan, view_label, final, level, how)]
     if plan.level != "basic":  # the control condition gets no How2Sketch constructions
         pages.append(_primer_page(f, title, right, primer_diagrams()))
-    pages += _step_pages(f, title, plan, view_label)
-    pages.append(_final_page(f, title, plan, view_label, final))
+    pages += _step_pages(f, title, plan, view_label, level)
+    pages.append(_final_page(f, title, plan, view_label, level, final))
     pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label,
-                               grid=grid))
+                               grid=grid, drawing=[s.points_mm for s in
+                                                   _final_strokes(plan, final)]))
     return _with_footers(pages, lambda n, total: _t("footer", title=title, view=view_label,
                                                     level=level, page=n, pages=total))
 
@@ -1340,10 +1345,10 @@ def perspective_grid(plan: ViewPlan, frame: Box2) -> list[Polyline]:
 
 
 def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
-                    vertical: bool) -> list[Text]:
+                    vertical: bool) -> list[Text] | None:
     """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
-    smallest step that keeps it clear of every text and arrow already placed, inside
-    ``frame``; as it is when no such place is within 60 mm."""
+    smallest step that keeps it clear of every text and line of :data:`_SHEET_LINES` in
+    ``items``, inside ``frame``; None when no such place is within 60 mm."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
     arrows = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in _SHEET_LINES])
@@ -1368,11 +1373,12 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
         moved = [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
         if clear(moved):
             return moved
-    return block
+    return None
 
 
-#: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint.
-_SHEET_LINES = ("vp_arrow", "horizon", "ground")
+#: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint, and
+#: the finished drawing (``keep_out``, not printed: where the person will draw).
+_SHEET_LINES = ("vp_arrow", "horizon", "ground", "keep_out")
 
 
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2) -> bool:
@@ -1406,7 +1412,8 @@ def _corner_offset(v: Pt, frame: Box2) -> str:
 
 
 def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_label: str = "",
-                  ground_mm: Sequence[Pt] | None = None, grid: bool = False) -> Page:
+                  ground_mm: Sequence[Pt] | None = None, grid: bool = False,
+                  drawing: Sequence[Sequence[Pt]] = ()) -> Page:
     """The calibrated drawing sheet at true scale: 1 sheet mm is 1 page mm.
 
     The page is ``plan.paper_mm``.  It shows the frame (the paper margins) with green corners,
@@ -1424,6 +1431,9 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         grid: also a light perspective grid (config ``sheet.grid``): lines converging toward
             each vanishing point across the frame (:func:`perspective_grid`), so a ruler line
             toward a vanishing point far off the sheet can be drawn anywhere.
+        drawing: the finished drawing's polylines (sheet mm), not printed: labels are placed
+            where they cross none of its lines, so nothing is printed where the person draws
+            (and where scoring a scan could not see the pencil).
     """
     w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
     m = float(margin_mm)
@@ -1445,8 +1455,9 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     r = min(2.5, max(1.0, band - 1.0))
     for cx, cy in ((band, band), (w - band, band), (w - band, h - band), (band, h - band)):
         items.append(Circle(cx, cy, r, "black", 0.2, None, "registration"))
-        items.append(Polyline(((cx - r - 1, cy), (cx + r + 1, cy)), "black", 0.2, (), False, "registration"))
-        items.append(Polyline(((cx, cy - r - 1), (cx, cy + r + 1)), "black", 0.2, (), False, "registration"))
+        arm = r + 0.5  # at a 15 mm margin the cross ends 4.5 mm from the edge: printers print it
+        items.append(Polyline(((cx - arm, cy), (cx + arm, cy)), "black", 0.2, (), False, "registration"))
+        items.append(Polyline(((cx, cy - arm), (cx, cy + arm)), "black", 0.2, (), False, "registration"))
     # Heading in the top band, scale bar in the bottom band.
     head = _t("sheet.heading", title=title, view=plain_text(view_label or plan.name),
               level=_level_name(plan.level))
@@ -1464,6 +1475,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     items.append(Text(bar_x0 + 103.0, bar_y, _t("sheet.scale"), 7, "Helvetica", "start", "black",
                       "scale_label"))
     # Labels placed after the VP labels, at the first option that collides with no text.
+    shadow = [Polyline(tuple(p), role="keep_out") for p in drawing if len(p) >= 2]
     deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
     # Horizon.
     hl = _horizon(plan)
@@ -1594,9 +1606,15 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         block = [Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label")]
         if detail:
             block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
-        items += _clear_of_texts(block, items, frame, vertical=edge in ("left", "right"))
+        vertical = edge in ("left", "right")
+        placed = _clear_of_texts(block, [*items, *shadow], frame, vertical)
+        if placed is None:  # no room off the drawing: at least clear of the other labels
+            placed = _clear_of_texts(block, items, frame, vertical)
+        items += placed or block
     for options in deferred:
-        texts, extra = next((o for o in options if _fits(o[0], items, frame)), options[0])
+        texts, extra = next((o for o in options if _fits(o[0], [*items, *shadow], frame)),
+                            next((o for o in options if _fits(o[0], items, frame)),
+                                 options[0]))
         items += extra
         items += texts
     if grid:  # the grid stops short of every label, so no text is read through its lines

@@ -597,10 +597,12 @@ def build_study(config_path: Path, out_dir: Path, *, cache: bool = True,
     """
     from .cache import cache_folder
     from .config import load_study
-    from .study import make_study
+    from .study import make_study, with_study_margins
 
     progress = progress or _quiet
-    cfg = load_study(config_path)
+    cfg, notes = with_study_margins(load_study(config_path))
+    for note in notes:
+        log.info("%s", note)
     out_dir = Path(out_dir)
     check_writable(out_dir)
     cache_dir = cache_folder(out_dir) if cache else None

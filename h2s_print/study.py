@@ -74,8 +74,13 @@ log = logging.getLogger(__name__)
 CODE_ERROR = "m"
 #: Resolution of the blank-sheet images ``h2s score`` subtracts from a scan (203 dpi).
 PX_PER_MM = 8.0
-#: The smallest drawing-sheet margin a study accepts: the code needs 8 mm in the band.
-MIN_STUDY_MARGIN_MM = 12.0
+#: A study sheet's margin: the registration marks, the code and the stamp sit in the margin
+#: band, all at least :data:`PRINT_INSET_MM` from the paper's edge.  A tutorial config with a
+#: smaller margin is given this one for the study (said on the terminal).
+STUDY_MARGIN_MM = 15.0
+#: Most printers cannot print closer to the paper's edge than about 4.2 mm (laser) or 3 mm
+#: (inkjet): nothing a scan needs is printed nearer than this, mm.
+PRINT_INSET_MM = 4.5
 
 
 def _t(key: str, **fields) -> str:
@@ -170,16 +175,16 @@ def balance_note(n_participants: int, n_objects: int, n_conditions: int,
 
 def code_box(paper_mm: tuple[float, float], margin_mm: float) -> Box:
     """Where a sheet's QR code goes: in the bottom margin band, left of the bottom-right
-    registration mark, its side the margin less 4 mm (8 mm at 12 mm: version-1 modules of
-    0.38 mm, which a 200 dpi scan or a phone photo of the page resolves)."""
+    registration mark, from :data:`PRINT_INSET_MM` above the paper's edge to 1.5 mm below the
+    frame (9 mm at the study's 15 mm margin: version-1 modules of 0.43 mm, which a 200 dpi
+    scan or a phone photo of the page resolves)."""
     w = float(paper_mm[0])
     m = float(margin_mm)
     band = m / 2
     r = min(2.5, max(1.0, band - 1.0))  # the registration mark's radius (layout.lay_out_sheet)
-    side = m - 4.0
+    side = m - 1.5 - PRINT_INSET_MM
     x1 = w - band - r - 3.0
-    y0 = (m - side) / 2
-    return (x1 - side, y0, x1, y0 + side)
+    return (x1 - side, PRINT_INSET_MM, x1, PRINT_INSET_MM + side)
 
 
 def code_items(text: str, box: Box) -> list[Rect]:
@@ -234,20 +239,24 @@ def _sheet_lines(final: Sequence[Stroke], parts: Sequence[str]
     return tuple((p, tuple(lines)) for p, lines in by_part.items() if lines)
 
 
-def answer_key(sheet: Page, key: SheetKey, heading: str) -> Page:
-    """The finished drawing of ``key`` at true scale on the sheet's frame, corners and
-    registration marks, to print on transparency and lay over a drawn sheet."""
-    keep = ("frame", "registration", "corner")
+def answer_key(sheet: Page, key: SheetKey, heading: str, mark: str, title: str) -> Page:
+    """The finished drawing of ``key`` at true scale on the sheet's frame, corners,
+    registration marks and 100 mm scale bar (check the transparency printed at 100 %), to
+    print on transparency and lay over a drawn sheet; ``heading`` (bold, in the top band)
+    says which key it is, ``mark`` is its outline entry, ``title`` the document's."""
+    keep = ("frame", "registration", "scale_bar", "scale_tick", "scale_label")
     items: list = [it for it in sheet.items if getattr(it, "role", "") in keep
                    or (isinstance(it, Polyline) and it.colour == "green")]
     for _, lines in key.lines:
         for line in lines:
             items.append(Polyline(line, "black", 0.4, (), False, "key"))
     band = sheet.margin_mm / 2
-    items.append(Text(band + 6.0, sheet.height_mm - band - 0.9, heading, 7, "Helvetica", "start",
-                      "black", "sheet_title"))
-    return Page(sheet.width_mm, sheet.height_mm, tuple(items), (Bookmark(heading),), "sheet",
-                heading, sheet.margin_mm)
+    x0 = band + 6.0
+    line = wrap(heading, sheet.width_mm - 2 * x0, 10, "Helvetica-Bold")[:1]
+    items.append(Text(x0, sheet.height_mm - band - 1.5, line[0], 10, "Helvetica-Bold", "start",
+                      "black", "key_heading"))
+    return Page(sheet.width_mm, sheet.height_mm, tuple(items), (Bookmark(mark),), "sheet",
+                title, sheet.margin_mm)
 
 
 # ----------------------------------------------------------------------------- pages
@@ -339,8 +348,10 @@ def questionnaire_page(paper: PaperSpec, title: str, participant: str, order: in
 
 
 def preference_page(paper: PaperSpec, title: str, participant: str,
-                    conditions: Sequence[str]) -> Page:
-    """At the end: which tutorial the participant preferred, and why."""
+                    met: Sequence[tuple[str, str]]) -> Page:
+    """At the end: which tutorial the participant preferred, and why; ``met`` lists each
+    condition with the drawings the participant made with it ("Kitchen stand mixer, drawing
+    1"), so the question can be answered from memory."""
     f = _frame(paper)
     x0, y0, x1, _ = f.box
     items, top = _header(f, _t("preference.heading"),
@@ -349,9 +360,10 @@ def preference_page(paper: PaperSpec, title: str, participant: str,
                            font="Helvetica-Bold", role="question")
     items += para
     top -= 6
-    for c in conditions:
+    for c, drawings in met:
         items.append(Rect(x0, top - 5, 5, 5, "black", 0.3, None, "answer_box"))
-        items.append(Text(x0 + 8, top - 4.2, condition_name(c), 11))
+        items.append(Text(x0 + 8, top - 4.2, _t("preference.option", condition=condition_name(c),
+                                                 object=drawings), 11))
         top -= 10
     para, top = _paragraph(x0, top - 4, x1 - x0, _t("preference.why"), 11,
                            font="Helvetica-Bold", role="question")
@@ -386,13 +398,19 @@ class StudyBuild:
     note: str | None
 
 
-def _check_margins(cfg: StudyConfig) -> None:
-    for i, obj in enumerate(cfg.objects):
-        m = obj.tutorial.paper.margin_mm
-        if m < MIN_STUDY_MARGIN_MM:
-            raise ConfigError(f"{obj.tutorial.path.name}: paper.margin_mm: a study sheet needs "
-                              f"at least {MIN_STUDY_MARGIN_MM:g} mm for its code and marks, "
-                              f"got {m:g} (study.objects[{i}])")
+def with_study_margins(cfg: StudyConfig) -> tuple[StudyConfig, tuple[str, ...]]:
+    """``cfg`` with every object's paper margin at least :data:`STUDY_MARGIN_MM`, and a note
+    for each one raised (the tutorial is then fitted to the narrower frame)."""
+    objects, notes = [], []
+    for obj in cfg.objects:
+        paper = obj.tutorial.paper
+        if paper.margin_mm < STUDY_MARGIN_MM:
+            notes.append(_t("warning.margin", config=obj.tutorial.path.name,
+                            margin=f"{paper.margin_mm:g}", study=f"{STUDY_MARGIN_MM:g}"))
+            obj = replace(obj, tutorial=replace(obj.tutorial, paper=replace(
+                paper, margin_mm=STUDY_MARGIN_MM)))
+        objects.append(obj)
+    return replace(cfg, objects=tuple(objects)), tuple(notes)
 
 
 def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[str, str], Workbook]:
@@ -407,8 +425,11 @@ def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[s
         t = obj.tutorial
         parts = [p.name for p in result.plan.model.parts]
         for vp, final in zip(result.views, result.finals):
+            how = [plain_text(line) for line in templates.lookup(
+                "study", "tutorial.how_basic" if vp.level == "basic" else "tutorial.how")]
             pages = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name, final=final,
-                                     grid=t.sheet.grid)
+                                     grid=t.sheet.grid, level_label=condition_name(vp.level),
+                                     how=how)
             sheet = pages[-1]
             m = t.paper.margin_mm
             w, h = sheet.width_mm, sheet.height_mm
@@ -453,9 +474,11 @@ def packet(cfg: StudyConfig, study_id: str, rows: Sequence[tuple[int, Assignment
         sheet_page = len(body) + 1
         body.append(questionnaire_page(cfg.paper, cfg.title, participant, a.order, wb.title))
         schedule.append((a.order, wb.title, a.condition, start, sheet_page, len(body) + 1))
-    conditions = [c for c in cfg.conditions if any(a.condition == c for _, a in rows)]
-    if len(conditions) > 1:
-        body.append(preference_page(cfg.paper, cfg.title, participant, conditions))
+    met = [(c, "; ".join(_t("preference.drawing", object=books[(a.object, c)].title, n=a.order)
+                         for _, a in rows if a.condition == c)) for c in cfg.conditions]
+    met = [(c, drawings) for c, drawings in met if drawings]
+    if len(met) > 1:
+        body.append(preference_page(cfg.paper, cfg.title, participant, met))
     pages = [cover_page(cfg.paper, cfg.title, participant, schedule)] + body
     return _with_footers(pages, lambda k, total: _t("footer", participant=participant,
                                                     title=cfg.title, page=k, pages=total))
@@ -489,7 +512,10 @@ def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
     """
     from .render import pdf_bytes, render_png
 
-    _check_margins(cfg)
+    for obj in cfg.objects:
+        if obj.tutorial.paper.margin_mm < STUDY_MARGIN_MM:
+            raise ConfigError(f"{obj.tutorial.path.name}: paper.margin_mm: a study sheet needs "
+                              f"{STUDY_MARGIN_MM:g} mm (with_study_margins)")
     books = workbooks(cfg, results, folder)
     plan = assign(cfg.participants, [o.name for o in cfg.objects], cfg.conditions, cfg.design,
                   cfg.first, cfg.seed)
@@ -506,8 +532,9 @@ def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
         rows = [(i, a) for i, a in enumerate(plan) if a.participant == participant]
         files.append((folder / "packets" / f"{participant}.pdf",
                       pdf_bytes(packet(cfg, study_id, rows, books))))
-    keys = [answer_key(wb.pages[-1], wb.key, _t("key.heading", object=wb.title, view=wb.view,
-                                                 condition=wb.condition))
+    keys = [answer_key(wb.pages[-1], wb.key,
+                       _t("key.heading", object=wb.title, view=wb.view, condition=wb.condition),
+                       _t("key.bookmark", object=wb.title, condition=wb.condition), cfg.title)
             for wb in books.values()]
     files.append((folder / "answer-keys.pdf", pdf_bytes(keys)))
     for wb in books.values():

@@ -45,8 +45,8 @@ FIELDS: dict[str, frozenset[str]] = {
         "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((
-        "condition", "fill", "n", "n_drawings", "object", "page", "pages", "participant",
-        "questionnaire", "rows", "sheet", "title", "total", "view")),
+        "condition", "config", "fill", "margin", "n", "n_drawings", "object", "page", "pages",
+        "participant", "questionnaire", "rows", "sheet", "study", "title", "total", "view")),
 }
 
 

@@ -668,3 +668,35 @@ def test_a_crowded_picture_still_places_every_label_without_overlap():
     tiny = L._View((0.0, 0.0, 10.0, 6.0), (0.0, 0.0, 10.0, 6.0))
     with pytest.raises(RenderError, match="no room"):
         L.place_labels(tiny, labels, [])
+
+
+def _crossing_labels(sheet, segs) -> list[str]:
+    return [it.string for it in sheet.items
+            if isinstance(it, L.Text) and it.role in ("vp_label", "vp_detail", "horizon_label",
+                                                      "ground_label")
+            and L._crossings(segs, it.box_mm)]
+
+
+def test_sheet_labels_keep_off_the_drawing(examples):
+    """The calibrated sheet's labels are placed off the drawing's lines, where a person will
+    draw (and where scoring a scan could not see the pencil), wherever the frame has room:
+    on the camera, mixer and roller no label crosses a line; on the train, which fills its
+    frame, fewer than without the rule; and never a label on a label."""
+    with_rule = without = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            lines = [s.points_mm for st in vp.steps for s in st.strokes]
+            segs = L._segments([L.Polyline(tuple(p)) for p in lines])
+            kept = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
+            plain = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            crossing = _crossing_labels(kept, segs)
+            if name != "train":
+                assert crossing == [], (name, view)
+            with_rule += len(crossing)
+            without += len(_crossing_labels(plain, segs))
+            texts = [it for it in kept.items if isinstance(it, L.Text) and it.string]
+            assert not any(L._boxes_overlap(a.box_mm, b.box_mm)
+                           for i, a in enumerate(texts) for b in texts[i + 1:]), (name, view)
+    assert with_rule < without

@@ -18,13 +18,14 @@ import numpy as np
 import pytest
 
 from h2s_print import score
+from h2s_print.study import STUDY_MARGIN_MM
 from h2s_print.studyfile import Drawing, SheetKey, Study, StudyError, code_text
 
 from _scans import RENDER_DPI, _gray, pencil, scan
 
 REPO = Path(__file__).resolve().parents[1]
 STUDY_ID = "1A2B3C4D"
-MARGIN_MM = 12.0
+MARGIN_MM = STUDY_MARGIN_MM  # a study sheet's (h2s study raises smaller ones to it)
 #: The blank sheet's image in the key: 8 px/mm (203 dpi).
 KEY_PX_MM = 8.0
 
@@ -43,6 +44,7 @@ def sheet(tmp_path_factory):
     from h2s_print.study import code_box, stamped
 
     tutorial = load_tutorial(REPO / "configs" / "camera.yaml")
+    tutorial = replace(tutorial, paper=replace(tutorial.paper, margin_mm=MARGIN_MM))
     result = plan_tutorial(tutorial)
     vp, final = result.views[0], result.finals[0]
     page = lay_out_sheet(tutorial.title, vp, margin_mm=MARGIN_MM)
