@@ -66,6 +66,7 @@ def main() -> None:
                                       [(f"{tutorial.title} > {view.name} > {view.level}", pages)])[1],
     }
     wanted["page-step-spacing"] = _spacing_page()
+    wanted["page-cyrillic"] = _cyrillic_page()
     for name, page in wanted.items():
         path = ROOT / "docs" / f"{name}.png"
         path.write_bytes(render_png(page, dpi=DPI))
@@ -106,6 +107,27 @@ def _spacing_page():
              if p.kind == "steps"]
     last = max(k for k, st in enumerate(vp.steps) if st.kind == "primitive")
     return pages[last]  # knobs 3 and 4, spaced like knobs 1 and 2
+
+
+def _cyrillic_page():
+    """A step page of the camera with a Russian title and part names, in the default font."""
+    import tempfile
+
+    text = (ROOT / "configs" / "camera.yaml").read_text(encoding="utf-8")
+    text = text.replace("models/camera.glb", str(ROOT / "configs" / "models" / "camera.glb"))
+    text = text.replace("title: Digital SLR camera", "title: Зеркальный фотоаппарат")
+    text = text.replace("  units: mm                 # the examples are modelled in millimetres",
+                        "  units: mm\n  parts: {rename: {body: корпус, lens: объектив, "
+                        "grip: рукоятка}}")
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "camera.yaml"
+        path.write_text(text, encoding="utf-8")
+        tutorial = load_tutorial(path)
+        result = plan_tutorial(tutorial)
+    view = result.views[0]
+    pages = lay_out_workbook(tutorial.title, view, tutorial.paper, view_label=view.name,
+                             final=result.finals[0])
+    return [p for p in pages if p.kind == "steps"][2]
 
 
 if __name__ == "__main__":

@@ -198,6 +198,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             from . import templates
             for name in templates.FIELDS:  # wording checked before any work is done
                 templates.load(name)
+            templates.check_font()
         if args.command == "plan":
             return _plan(args, console)
         if args.command == "build":

@@ -17,8 +17,9 @@ Defaults chosen where DESIGN.md is silent (documented in README "Config referenc
   model's, or that have no area, are ``merge``\\ d into the nearest part (default), ``drop``\\ ped,
   or ``keep``\\ t.
 * PartNet folders (``result.json``): ``up: y`` and ``units: m`` like their GLB exports.
-* Regrouping runs drop -> merge -> rename; part names are made file-safe (characters outside
-  ``[A-Za-z0-9_.-]`` become ``_``; clashes are numbered ``wheel``, ``wheel.1`` ...).
+* Regrouping runs drop -> merge -> rename; part names are made id-safe (characters other than
+  letters and digits of any script, ``_ . -`` become ``_``; clashes are numbered ``wheel``,
+  ``wheel.1`` ...).
 * ``levels``: ``[novice, apprentice, master]``; ``basic`` is the paper's control tutorial.
 """
 
@@ -33,6 +34,8 @@ from typing import Any, Callable
 import yaml
 
 from .errors import ConfigError
+from . import fonts
+from .fonts import FontError, FontSpec
 from .glyphs import describe, unprintable
 from .yamlfile import DuplicateKey, read_yaml
 
@@ -226,17 +229,20 @@ class TutorialConfig:
     sequence: SequenceSettings = field(default_factory=SequenceSettings)
     output: OutputSettings = field(default_factory=OutputSettings)
     sheet: SheetSettings = field(default_factory=SheetSettings)
+    font: FontSpec | None = None  #: the page font (``font:``); None: DejaVu Sans
 
 
 @dataclass(frozen=True, slots=True)
 class BookConfig:
-    """Many tutorials in one PDF."""
+    """Many tutorials in one PDF (each workbook in its tutorial's font; the title and
+    contents pages in the book's ``font:``)."""
 
     path: Path
     name: str
     title: str
     tutorials: tuple[TutorialConfig, ...]
     paper: PaperSpec = field(default_factory=PaperSpec)
+    font: FontSpec | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -280,6 +286,7 @@ class StudyConfig:
     first: str = ""
     seed: int = 0
     paper: PaperSpec = field(default_factory=PaperSpec)
+    font: FontSpec | None = None  #: covers and questionnaires (each tutorial keeps its own)
 
 
 # --------------------------------------------------------------------------- reading
@@ -360,14 +367,15 @@ class _Node:
             raise self.fail(f"expected {what}, got {_show(v)}")
         return v
 
-    def printed_text(self) -> str:
+    def printed_text(self, font: FontSpec | None = None) -> str:
         """:meth:`text` that goes on the pages: every character printable in the page font
-        (:mod:`h2s_print.glyphs`), else an error naming it."""
+        (``font``, default DejaVu Sans: :mod:`h2s_print.glyphs`), else an error naming it."""
         v = self.text()
-        ch = unprintable(v)
+        with fonts.using(font) as spec:
+            ch = unprintable(v)
         if ch is not None:
             raise self.fail(f"character {describe(ch)} cannot be printed in the page font "
-                            f"(Helvetica: Latin-1 and Windows-1252)")
+                            f"({spec.name}): give a font that has it (config 'font:')")
         return v
 
     def choice(self, options: tuple[str, ...]) -> str:
@@ -407,6 +415,9 @@ def _num(v: float) -> str:
 
 #: Part and view names: no '<', '+', '#' or ':' (they structure candidate ids like "grip<body#3").
 _NAME = r"[A-Za-z0-9][A-Za-z0-9_.-]*"
+#: Part names (merge and rename targets): letters and digits of any script too, as model
+#: files' names are kept (:func:`h2s_print.load.safe_name`).
+_PART_NAME = r"[^\W_][\w.-]*"
 
 
 def _read_yaml(path: Path) -> Any:
@@ -478,7 +489,7 @@ def load_tutorial(path: str | Path) -> TutorialConfig:
 
 
 _TUTORIAL_KEYS = ("title", "model", "views", "levels", "paper", "solver", "sequence", "output",
-                  "sheet")
+                  "sheet", "font")
 
 
 def _tutorial(path: Path, data: Any) -> TutorialConfig:
@@ -487,7 +498,8 @@ def _tutorial(path: Path, data: Any) -> TutorialConfig:
         raise root.fail("empty config (expected title, model, views ...)")
     root.mapping(_TUTORIAL_KEYS, required=("model", "views"))
     name = path.stem
-    title = root.get("title", lambda n: n.printed_text(), name)
+    font = root.get("font", lambda n: _font(n, path.parent), None)
+    title = root.get("title", lambda n: n.printed_text(font), name)
     model = _model(root.child("model"), path.parent)
     views = tuple(_view(n) for n in root.child("views").items())
     if not views:
@@ -514,7 +526,31 @@ def _tutorial(path: Path, data: Any) -> TutorialConfig:
         sequence=root.get("sequence", _sequence, SequenceSettings()),
         output=root.get("output", _output, OutputSettings()),
         sheet=root.get("sheet", _sheet, SheetSettings()),
+        font=font,
     )
+
+
+def _font(node: _Node, base: Path) -> FontSpec:
+    """``font: file.ttf`` (every style) or ``font: {regular: a.ttf, bold: b.ttf, oblique:
+    c.ttf}`` (bold and oblique default to regular), relative to the config."""
+    if isinstance(node.value, str):
+        files = {"regular": node}
+    else:
+        node.mapping(("regular", "bold", "oblique"), required=("regular",))
+        files = {k: node.child(k) for k in ("regular", "bold", "oblique") if node.has(k)}
+    paths = {}
+    for style, n in files.items():
+        path = (base / n.text()).resolve()
+        if not path.is_file():
+            raise n.fail(f"{n.value!r}: file not found")
+        try:
+            fonts.face(path)
+        except FontError as exc:
+            raise n.fail(str(exc).replace(str(path), repr(n.value))) from None
+        paths[style] = path
+    regular = paths["regular"]
+    return FontSpec(regular, paths.get("bold", regular), paths.get("oblique", regular),
+                    name=regular.name)
 
 
 def _model(node: _Node, base: Path) -> ModelSpec:
@@ -537,13 +573,13 @@ def _parts(node: _Node) -> PartsSpec:
     if node.has("merge"):
         m = node.child("merge").mapping(tuple(node.value["merge"] or ()))
         for k in m.value:
-            if not re.fullmatch(_NAME, k):
+            if not re.fullmatch(_PART_NAME, k):
                 raise m.child(k).fail("expected a part name of letters, digits, '-', '_' or '.'")
         merge = tuple((k, m.child(k).text_list()) for k in m.value)
     rename: tuple[tuple[str, str], ...] = ()
     if node.has("rename"):
         r = node.child("rename").mapping(tuple(node.value["rename"] or ()))
-        rename = tuple((k, r.child(k).text(_NAME, "a part name")) for k in r.value)
+        rename = tuple((k, r.child(k).text(_PART_NAME, "a part name")) for k in r.value)
     return PartsSpec(
         merge=merge,
         rename=rename,
@@ -629,7 +665,8 @@ STUDY_DESIGNS = ("fixed-first", "latin-square")
 
 def _study(path: Path, data: Any) -> StudyConfig:
     root = _Node(path.name, "", data)
-    root.mapping(("title", "study", "paper"), required=("study",))
+    root.mapping(("title", "study", "paper", "font"), required=("study",))
+    font = root.get("font", lambda n: _font(n, path.parent), None)
     node = root.child("study")
     node.mapping(("participants", "objects", "conditions", "design", "first", "seed"),
                  required=("participants", "objects", "conditions"))
@@ -691,16 +728,17 @@ def _study(path: Path, data: Any) -> StudyConfig:
             raise onode.child(i).fail(f"object name {n!r} appears twice (give one a 'name:')")
     return StudyConfig(
         path=path.resolve(), name=path.stem,
-        title=root.get("title", lambda n: n.printed_text(), path.stem),
+        title=root.get("title", lambda n: n.printed_text(font), path.stem),
         participants=participants, objects=tuple(objects), conditions=conditions,
         design=design, first=first if design == "fixed-first" else "",
         seed=node.get("seed", lambda n: n.integer(0, 2**31 - 1), 0),
-        paper=root.get("paper", _paper, PaperSpec()))
+        paper=root.get("paper", _paper, PaperSpec()), font=font)
 
 
 def _book(path: Path, data: Any, stack: tuple[Path, ...]) -> BookConfig:
     root = _Node(path.name, "", data)
-    root.mapping(("title", "tutorials", "paper"), required=("tutorials",))
+    root.mapping(("title", "tutorials", "paper", "font"), required=("tutorials",))
+    font = root.get("font", lambda n: _font(n, path.parent), None)
     entries = root.child("tutorials").items()
     if not entries:
         raise root.child("tutorials").fail("expected at least one tutorial")
@@ -722,5 +760,6 @@ def _book(path: Path, data: Any, stack: tuple[Path, ...]) -> BookConfig:
         if names.index(n) != i:
             raise entries[i].fail(f"tutorial name {n!r} appears twice")
     paper = root.get("paper", _paper, tutorials[0].paper)
-    return BookConfig(path=here, name=path.stem, title=root.get("title", lambda n: n.printed_text(),
-                      path.stem), tutorials=tuple(tutorials), paper=paper)
+    return BookConfig(path=here, name=path.stem, title=root.get(
+                      "title", lambda n: n.printed_text(font), path.stem),
+                      tutorials=tuple(tutorials), paper=paper, font=font)

@@ -28,8 +28,9 @@ Decisions where the brief is silent (documented here, kept in one place):
   a beginner's pace: half a minute to read a step, 10 s per ruler line, a minute per scaffold
   box and per part outlined, half a minute per ellipse; rounded up to 5 minutes (the paper
   reports 15-45 minutes per tutorial of its four objects).
-* **Text**: Helvetica only; characters outside Windows-1252 are spelled out (``⅓`` -> ``1/3``)
-  by :func:`plain_text` before measuring, so wrapped widths equal printed widths.
+* **Text**: one embedded Unicode font (:mod:`h2s_print.fonts`: DejaVu Sans, or the config's
+  ``font:``), measured in its own advance widths, so wrapped widths equal printed widths;
+  ``Text.font`` names a style (``Helvetica``, ``-Bold``, ``-Oblique``) of the page's font.
 * **Calibrated sheet**: an off-sheet vanishing point is an arrow on the frame (along the
   horizon when the VP lies on it, else from the frame's centre) labelled with its distance from
   the arrow's tip and its offset from the nearest green corner ("603 mm left, 48 mm down from
@@ -61,7 +62,8 @@ from . import templates
 from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct, ellipse_on_face
 from .errors import RenderError
-from .glyphs import printable, spelled
+from . import fonts
+from .glyphs import ascii_font, printable, spelled
 from .project import edge_exit, horizon_mm, make_camera, vp_side
 from .types import Guide, Label, Step, Stroke, ViewPlan
 
@@ -149,13 +151,14 @@ class Polyline:
 
 @dataclass(frozen=True, slots=True)
 class Text:
-    """One line of Helvetica text (already :func:`plain_text`).
+    """One line of text (already :func:`plain_text`) in the page's font.
 
     Attributes:
         x_mm, y_mm: anchor point on the baseline, mm.
         string: the text.
         size_pt: font size, points.
-        font: ``Helvetica``, ``Helvetica-Bold`` or ``Helvetica-Oblique``.
+        font: the style: ``Helvetica`` (regular), ``Helvetica-Bold`` or ``Helvetica-Oblique``
+            (names of old; the face is the page font's: :data:`h2s_print.fonts.STYLES`).
         anchor: ``start``, ``middle`` or ``end`` (which point of the line sits at ``x_mm``).
         colour: a key of :data:`COLOURS`.
         role: what it shows (``instruction``, ``title`` ...).
@@ -228,6 +231,8 @@ class Page:
         kind: ``cover``, ``primer``, ``steps``, ``final``, ``sheet``, ``title``, ``contents``.
         title: the document title this page belongs to (PDF metadata).
         margin_mm: the blank border the page was laid out with, mm.
+        font: the font its texts were measured in and are drawn in (:mod:`h2s_print.fonts`);
+            ``None``: the current one when rendered.
     """
 
     width_mm: float
@@ -237,63 +242,28 @@ class Page:
     kind: str = ""
     title: str = ""
     margin_mm: float = 12.0
+    font: fonts.FontSpec | None = None
 
 
 # ----------------------------------------------------------------------------- text
 
 
-# Advance widths (1/1000 em) of Windows-1252 bytes 32..255, from the standard Adobe AFM
-# metrics of Helvetica and Helvetica-Bold (Helvetica-Oblique shares Helvetica's).
-_HELVETICA = (
-    "278 278 355 556 556 889 667 191 333 333 389 584 278 333 278 278 556 556 556 556 556 556 "
-    "556 556 556 556 278 278 584 584 584 556 1015 667 667 722 722 667 611 778 722 278 500 667 "
-    "556 833 722 778 667 778 722 667 611 722 667 944 667 667 611 278 278 278 469 556 333 556 "
-    "556 500 556 556 278 556 556 222 222 500 222 833 556 556 556 556 333 500 278 556 500 722 "
-    "500 500 500 334 260 334 584 350 556 350 222 556 333 1000 556 556 333 1000 667 333 1000 "
-    "350 611 350 350 222 222 333 333 350 556 1000 333 1000 500 333 944 350 500 667 278 333 "
-    "556 556 556 556 260 556 333 737 370 556 584 333 737 333 400 584 333 333 333 556 537 278 "
-    "333 333 365 556 834 834 834 611 667 667 667 667 667 667 1000 722 667 667 667 667 278 278 "
-    "278 278 722 722 778 778 778 778 778 584 778 722 722 722 722 667 667 611 556 556 556 556 "
-    "556 556 889 500 556 556 556 556 278 278 278 278 556 556 556 556 556 556 556 584 611 556 "
-    "556 556 556 500 556 500"
-)
-_HELVETICA_BOLD = (
-    "278 333 474 556 556 889 722 238 333 333 389 584 278 333 278 278 556 556 556 556 556 556 "
-    "556 556 556 556 333 333 584 584 584 611 975 722 722 722 722 667 611 778 722 278 556 722 "
-    "611 833 722 778 667 778 722 667 611 722 667 944 667 667 611 333 278 333 584 556 333 556 "
-    "611 556 611 556 333 611 611 278 278 556 278 889 611 611 611 611 389 556 333 611 556 778 "
-    "556 556 500 389 280 389 584 350 556 350 278 556 500 1000 556 556 333 1000 667 333 1000 "
-    "350 611 350 350 278 278 500 500 350 556 1000 333 1000 556 333 944 350 500 667 278 333 "
-    "556 556 556 556 280 556 333 737 370 556 584 333 737 333 400 584 333 333 333 611 556 278 "
-    "333 333 365 556 834 834 834 611 722 722 722 722 722 722 1000 722 667 667 667 667 278 278 "
-    "278 278 722 722 778 778 778 778 778 584 778 722 722 722 722 667 667 611 556 556 556 556 "
-    "556 556 889 556 556 556 556 556 278 278 278 278 611 611 611 611 611 611 611 584 611 611 "
-    "611 611 611 556 611 556"
-)
-_WIDTHS = {
-    "Helvetica": tuple(int(w) for w in _HELVETICA.split()),
-    "Helvetica-Bold": tuple(int(w) for w in _HELVETICA_BOLD.split()),
-}
-_WIDTHS["Helvetica-Oblique"] = _WIDTHS["Helvetica"]
-FONTS = tuple(_WIDTHS)
-
 def plain_text(string: str) -> str:
-    """``string`` with every character printable in Helvetica (Windows-1252): the few signs
-    :data:`h2s_print.glyphs.SPELL` spells out are spelled, and (a last resort: user text and
-    templates were checked when read) any other character outside the font is ``?``."""
+    """``string`` as the current page font (:mod:`h2s_print.fonts`) prints it: a character
+    the font lacks is spelled when :data:`h2s_print.glyphs.SPELL` knows a spelling it has
+    (``⅓`` -> ``1/3`` in a font without the fraction), and as a last resort ``?`` (user text
+    and templates are checked against the font before any layout, so that does not happen
+    silently: :func:`h2s_print.glyphs.unprintable`)."""
     text = str(string)
-    if text.isascii() and "\t" not in text and "\n" not in text:
+    if text.isascii() and "\t" not in text and "\n" not in text and ascii_font():
         return text  # nearly every text on a page: nothing to spell (measured: 1.2 s a book)
     return "".join(spelled(ch) if printable(ch) else "?" for ch in text)
 
 
 def text_width_mm(string: str, size_pt: float, font: str = "Helvetica") -> float:
-    """Advance width of ``string`` (already plain) set in ``font`` at ``size_pt``, mm."""
-    widths = _WIDTHS[font]
-    total = 0
-    for byte in string.encode("cp1252", errors="replace"):
-        total += widths[byte - 32] if byte >= 32 else 0
-    return total / 1000.0 * size_pt * PT_MM
+    """Advance width of ``string`` (already plain) set in style ``font`` of the current page
+    font at ``size_pt``, mm."""
+    return fonts.width_mm(string, size_pt, font)
 
 
 def wrap(string: str, width_mm: float, size_pt: float, font: str = "Helvetica") -> list[str]:
@@ -775,8 +745,10 @@ def _footer_y(f: _Frame) -> float:
 
 
 def _with_footers(pages: Sequence[Page], make: Callable[[int, int], str]) -> tuple[Page, ...]:
-    """Replace every page-number footer with ``make(page_no, total)`` (sheets have none)."""
+    """Replace every page-number footer with ``make(page_no, total)`` (sheets have none);
+    pages without a font are given the current one (the one they were measured in)."""
     out = []
+    here = fonts.current()
     total = len(pages)
     for n, page in enumerate(pages, start=1):
         items = tuple(it for it in page.items if getattr(it, "role", "") != "page_number")
@@ -784,7 +756,7 @@ def _with_footers(pages: Sequence[Page], make: Callable[[int, int], str]) -> tup
             f = _Frame(page.width_mm, page.height_mm, page.margin_mm)
             items += (Text(f.box[2], _footer_y(f), make(n, total), 7, "Helvetica", "end", "grey",
                            "page_number"),)
-        out.append(replace(page, items=items))
+        out.append(replace(page, items=items, font=page.font or here))
     return tuple(out)
 
 
@@ -1224,6 +1196,7 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
                                                     level=level, page=n, pages=total))
 
 
+
 # ----------------------------------------------------------------------------- calibrated sheet
 
 
@@ -1345,13 +1318,27 @@ def perspective_grid(plan: ViewPlan, frame: Box2) -> list[Polyline]:
 
 
 def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
-                    vertical: bool) -> list[Text] | None:
+                    vertical: bool, avoid: np.ndarray | None = None) -> list[Text] | None:
     """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
     smallest step that keeps it clear of every text and line of :data:`_SHEET_LINES` in
-    ``items``, inside ``frame``; None when no such place is within 60 mm."""
+    ``items`` and of the segments ``avoid``, inside ``frame``; None when no such place is
+    within 60 mm."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
     arrows = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in _SHEET_LINES])
+    if avoid is not None and len(avoid):
+        # only the segments the search can reach (60 mm along the edge, 20 mm across)
+        bx = [t.box_mm for t in block]
+        reach = (20.0 + 2.0, 60.0 + 2.0) if vertical else (60.0 + 2.0, 20.0 + 2.0)
+        x0 = min(b[0] for b in bx) - reach[0]
+        x1 = max(b[2] for b in bx) + reach[0]
+        y0 = min(b[1] for b in bx) - reach[1]
+        y1 = max(b[3] for b in bx) + reach[1]
+        near = ((np.minimum(avoid[:, 0], avoid[:, 2]) <= x1)
+                & (np.maximum(avoid[:, 0], avoid[:, 2]) >= x0)
+                & (np.minimum(avoid[:, 1], avoid[:, 3]) <= y1)
+                & (np.maximum(avoid[:, 1], avoid[:, 3]) >= y0))
+        arrows = np.vstack([arrows, avoid[near]])
 
     def clear(texts: list[Text]) -> bool:
         for t in texts:
@@ -1376,17 +1363,20 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
     return None
 
 
-#: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint, and
-#: the finished drawing (``keep_out``, not printed: where the person will draw).
-_SHEET_LINES = ("vp_arrow", "horizon", "ground", "keep_out")
+#: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint (and,
+#: where there is room, the finished drawing: ``lay_out_sheet(drawing=...)``).
+_SHEET_LINES = ("vp_arrow", "horizon", "ground")
 
 
-def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2) -> bool:
+def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
+          avoid: np.ndarray | None = None) -> bool:
     """True when ``texts`` lie inside ``frame``, overlap no text already in ``items`` and
-    cross none of the sheet's lines there (:data:`_SHEET_LINES`)."""
+    cross none of the sheet's lines there (:data:`_SHEET_LINES`) nor ``avoid``."""
     placed = [it.box_mm for it in items if isinstance(it, Text) and it.string]
     lines = _segments([it for it in items if isinstance(it, Polyline)
                        and it.role in _SHEET_LINES])
+    if avoid is not None and len(avoid):
+        lines = np.vstack([lines, avoid])
     for t in texts:
         x0, y0, x1, y1 = t.box_mm
         if x0 < frame[0] or y0 < frame[1] or x1 > frame[2] or y1 > frame[3]:
@@ -1475,7 +1465,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     items.append(Text(bar_x0 + 103.0, bar_y, _t("sheet.scale"), 7, "Helvetica", "start", "black",
                       "scale_label"))
     # Labels placed after the VP labels, at the first option that collides with no text.
-    shadow = [Polyline(tuple(p), role="keep_out") for p in drawing if len(p) >= 2]
+    shadow = _segments([Polyline(tuple(p)) for p in drawing if len(p) >= 2])
     deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
     # Horizon.
     hl = _horizon(plan)
@@ -1607,14 +1597,23 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         if detail:
             block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
         vertical = edge in ("left", "right")
-        placed = _clear_of_texts(block, [*items, *shadow], frame, vertical)
+        placed = _clear_of_texts(block, items, frame, vertical, shadow)
         if placed is None:  # no room off the drawing: at least clear of the other labels
             placed = _clear_of_texts(block, items, frame, vertical)
         items += placed or block
     for options in deferred:
-        texts, extra = next((o for o in options if _fits(o[0], [*items, *shadow], frame)),
-                            next((o for o in options if _fits(o[0], items, frame)),
-                                 options[0]))
+        # the first position off the drawing; else the first one moved off it; else the same
+        # two clear of the other labels only; else the first
+        texts, extra = options[0]
+        for avoid in (shadow, None):
+            fit = next((o for o in options if _fits(o[0], items, frame, avoid)), None)
+            if fit is not None:
+                texts, extra = fit
+                break
+            moved = _clear_of_texts(options[0][0], items, frame, False, avoid)
+            if moved is not None:
+                texts = moved
+                break
         items += extra
         items += texts
     if grid:  # the grid stops short of every label, so no text is read through its lines

@@ -20,9 +20,9 @@ This is the only stage that reads model files; trimesh does the parsing.  What b
   lists (looked up in ``objs/`` then ``textured_objs/``).  PartNet is Y-up and roughly in metres,
   so a PartNet folder defaults to ``up: y`` and ``units: m`` (the same frame as its GLB export).
 
-Part names are made safe for ids and file names: every run of characters outside
-``[A-Za-z0-9_.-]`` becomes ``_`` and leading ``_ . -`` are stripped (``dowel#1:9`` ->
-``dowel_1_9``).  Names that clash are numbered in reading order: ``dowel``, ``dowel.1``,
+Part names are made safe for ids: every run of characters that are not letters or digits (of
+any script: ``корпус`` stays), ``_``, ``.`` or ``-`` becomes ``_`` and leading ``_ . -`` are
+stripped (``dowel#1:9`` -> ``dowel_1_9``).  Names that clash are numbered in reading order: ``dowel``, ``dowel.1``,
 ``dowel.2``.  The original node/group/file names stay in :attr:`Part.sources`.
 
 Frame: glTF files (and PartNet folders) are Y-up by default and are rotated +90° about X,
@@ -475,11 +475,12 @@ def _concat(meshes: Iterable[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray
 
 # ------------------------------------------------------------------------------ names
 
-_UNSAFE = re.compile(r"[^A-Za-z0-9_.-]+")
+_UNSAFE = re.compile(r"[^\w.-]+")
 
 
 def safe_name(raw: str) -> str:
-    """A part name made of ``[A-Za-z0-9_.-]`` starting with a letter or digit."""
+    """A part name of letters and digits of any script, ``_``, ``.`` and ``-``, starting with a
+    letter or digit (a Cyrillic or Chinese name stays as it is)."""
     name = _UNSAFE.sub("_", raw).lstrip("_.-")
     return name or "part"
 

@@ -218,6 +218,27 @@ def get_plan(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     return plan, cached
 
 
+def check_printable(tutorial: TutorialConfig, plan: Plan) -> None:
+    """Every part's name is printable in the tutorial's font (a name from the model file in a
+    script the font lacks is an error naming it, never ``?`` on the pages; the wording in
+    templates/ is checked before the plan, :func:`h2s_print.templates.check_font`).
+
+    Raises:
+        ConfigError: naming the config and the part.
+    """
+    from . import fonts
+    from .glyphs import describe, unprintable
+
+    with fonts.using(tutorial.font) as spec:
+        for part in plan.model.parts:
+            ch = unprintable(part.name.replace("_", " "))
+            if ch is not None:
+                raise ConfigError(
+                    f"{tutorial.path.name}: model: part {part.name!r}: character {describe(ch)} "
+                    f"cannot be printed in the page font ({spec.name}): rename the part "
+                    f"(model.parts.rename) or give a font that has it (font:)")
+
+
 def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
                   progress: Progress | None = None) -> TutorialResult:
     """Stages 1-8 for every view and level of one tutorial.
@@ -232,8 +253,12 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     """
     from .sequence import sequence_workbooks
 
+    from . import templates
+
     progress = progress or _quiet
+    templates.check_font(tutorial.font)  # the wording, before any work
     plan, cached = get_plan(tutorial, cache_dir=cache_dir, progress=progress)
+    check_printable(tutorial, plan)
     views: list[ViewPlan] = []
     finals: list[tuple[Stroke, ...]] = []
     for i, view in enumerate(tutorial.views):
@@ -338,11 +363,20 @@ def build_tutorial(tutorial: TutorialConfig, folder: Path, *, pdfs: bool,
         cache_dir: plan cache folder, or ``None``.
         progress: called with an :class:`Event` per stage done.
     """
-    from .render import pdf_bytes, render_png, render_svg
+    from . import fonts
 
     progress = progress or _quiet
-    name = tutorial.name
     result = plan_tutorial(tutorial, cache_dir=cache_dir, progress=progress)
+    with fonts.using(tutorial.font):  # measured and drawn in the tutorial's font
+        return _lay_out_and_render(result, folder, pdfs, progress)
+
+
+def _lay_out_and_render(result: TutorialResult, folder: Path, pdfs: bool,
+                        progress: Progress) -> TutorialBuild:
+    from .render import pdf_bytes, render_png, render_svg
+
+    tutorial = result.tutorial
+    name = tutorial.name
     workbooks = []
     for i, vp in enumerate(result.views):
         workbooks.append(_workbook_pages(result, i))
@@ -533,8 +567,11 @@ def build_files(cfg: TutorialConfig | BookConfig, out_dir: Path, *, jobs: int = 
         for vp, pages in zip(result.views, built.workbooks):
             label = OUTLINE_SEP.join((result.tutorial.title, vp.name, vp.level))
             workbooks.append((label, pages))
+    from . import fonts
+
     try:
-        pages = lay_out_book(cfg.title, workbooks)
+        with fonts.using(cfg.font):  # the title and contents pages; workbooks keep theirs
+            pages = lay_out_book(cfg.title, workbooks)
     except H2SError as exc:
         raise in_config(exc, cfg.path, "tutorials") from None
     progress(Event(cfg.name, "book", f"rendering the book PDF ({len(pages)} pages)"))

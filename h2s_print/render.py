@@ -1,7 +1,8 @@
 """Render stage (DESIGN.md §2.9): laid-out pages -> PDF (reportlab), SVG and PNG (cairosvg).
 
 Everything was placed by ``layout.py`` in page millimetres; this module only converts units
-(1 mm = 72 / 25.4 pt) and draws.  PDFs are vector (real lines, real Helvetica text), written
+(1 mm = 72 / 25.4 pt) and draws.  PDFs are vector (real lines, real text in the page's
+embedded font, :mod:`h2s_print.fonts`: only the glyphs used are embedded), written
 with reportlab's ``invariant=1`` so the same pages give the same bytes, with a PDF outline from
 the pages' bookmarks and the viewer preference ``/PrintScaling /None`` so print dialogs default
 to actual size (the calibrated drawing sheet must not be scaled).  Each page's MediaBox is
@@ -17,6 +18,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 from xml.sax.saxutils import escape
 
+from . import fonts
 from .errors import RenderError
 from .files import write_bytes_atomic
 from .layout import COLOURS, PT_MM, Circle, Page, Polyline, Rect, Text, text_width_mm
@@ -42,6 +44,7 @@ def _rgb(name: str) -> tuple[float, float, float]:
 
 
 def _draw_page(c, page: Page) -> None:
+    spec = page.font or fonts.current()
     c.setLineJoin(1)
     c.setLineCap(0)
     for item in page.items:
@@ -63,7 +66,7 @@ def _draw_page(c, page: Page) -> None:
             if not item.string:
                 continue
             c.setFillColorRGB(*_rgb(item.colour))
-            c.setFont(item.font, item.size_pt)
+            c.setFont(fonts.face(spec.path(item.font)).key, item.size_pt)
             draw = {"start": c.drawString, "middle": c.drawCentredString,
                     "end": c.drawRightString}[item.anchor]
             draw(_pt(item.x_mm), _pt(item.y_mm), item.string)
@@ -159,11 +162,17 @@ def render_svg(page: Page, *, measure: Callable[[Text], float] | None = None) ->
     Every :class:`~h2s_print.layout.Polyline` becomes one ``<polyline>`` (or ``<polygon>`` when
     closed), every text one ``<text>``; a white background ``<rect>`` comes first.
 
-    The layout measured text in Helvetica: each ``<text>`` carries that width as
-    ``textLength``.  ``measure`` (text item -> width in mm in the font the rasteriser will
-    really use) makes each text also scaled horizontally to that width, for rasterisers that
-    ignore ``textLength`` (cairosvg).
+    Texts name the page font's family (:mod:`h2s_print.fonts`) and carry the width the
+    layout measured in it as ``textLength``.  ``measure`` (text item -> width in mm in the
+    font the rasteriser will really use) makes each text also scaled horizontally to that
+    width, for rasterisers that ignore ``textLength`` (cairosvg) and may substitute a font.
     """
+    spec = page.font or fonts.current()
+    with fonts.using(spec):
+        return _svg(page, spec, measure)
+
+
+def _svg(page: Page, spec: fonts.FontSpec, measure: Callable[[Text], float] | None) -> str:
     w, h = page.width_mm, page.height_mm
     out = [
         '<?xml version="1.0" encoding="UTF-8"?>',
@@ -184,8 +193,9 @@ def render_svg(page: Page, *, measure: Callable[[Text], float] | None = None) ->
         elif isinstance(item, Text):
             if not item.string:
                 continue
+            family = fonts.face(spec.path(item.font)).family
             weight = ' font-weight="bold"' if item.font.endswith("Bold") else ""
-            style = ' font-style="italic"' if item.font.endswith("Oblique") else ""
+            style = ' font-style="oblique"' if item.font.endswith("Oblique") else ""
             want = text_width_mm(item.string, item.size_pt, item.font)
             fit = ""
             if measure is not None:
@@ -195,11 +205,11 @@ def render_svg(page: Page, *, measure: Callable[[Text], float] | None = None) ->
                     fit = (f' transform="translate({x} {y}) scale({want / got:.4f} 1) '
                            f'translate(-{x} -{y})"')
             out.append(f'<text x="{_num(item.x_mm)}" y="{_num(h - item.y_mm)}"{fit} '
-                       f'font-family="Helvetica, Arial, sans-serif" '
+                       f'font-family="\'{escape(family.replace(chr(39), ""), {chr(34): "&quot;"})}\', sans-serif" '
                        f'font-size="{_num(item.size_pt * PT_MM)}"{weight}{style} '
                        f'text-anchor="{item.anchor}" fill="{_svg_colour(item.colour)}" '
-                       # the layout measured the text in Helvetica; a viewer without it
-                       # (cairosvg falls back to wider fonts) is told to keep that width
+                       # the layout measured the text in the page font; a viewer without
+                       # it (a substitute font) is told to keep that width
                        f'textLength="{_num(want)}" '
                        f'lengthAdjust="spacingAndGlyphs">'
                        f'{escape(item.string)}</text>')
@@ -219,24 +229,29 @@ def render_svg(page: Page, *, measure: Callable[[Text], float] | None = None) ->
 
 
 def render_png(page: Page, dpi: float = 150.0) -> bytes:
-    """One page as PNG bytes at ``dpi`` (rasterised from :func:`render_svg` by cairosvg)."""
+    """One page as PNG bytes at ``dpi`` (rasterised from :func:`render_svg` by cairosvg, in
+    the page font: its files are added to fontconfig first)."""
     import cairosvg
 
     if not dpi > 0:
         raise RenderError(f"png dpi must be positive, got {dpi}")
-    svg = render_svg(page, measure=_cairo_width_mm)
+    spec = page.font or fonts.current()
+    for style in fonts.STYLES:
+        fonts.fontconfig_add(spec.path(style))
+    svg = render_svg(page, measure=lambda item: _cairo_width_mm(item, spec))
     return cairosvg.svg2png(bytestring=svg.encode("utf-8"), dpi=dpi)
 
 
-def _cairo_width_mm(item: Text) -> float:
-    """Width of a text item in the font cairo really picks for "Helvetica" (fontconfig may
-    substitute a wider face), mm; measured the way cairosvg selects it."""
+def _cairo_width_mm(item: Text, spec: fonts.FontSpec | None = None) -> float:
+    """Width of a text item in the font cairo really picks for the page font's family
+    (fontconfig may substitute another face), mm; measured the way cairosvg selects it."""
     import cairocffi as cairo
 
     ctx = _cairo_context()
-    slant = cairo.FONT_SLANT_ITALIC if item.font.endswith("Oblique") else cairo.FONT_SLANT_NORMAL
+    family = fonts.face((spec or fonts.current()).path(item.font)).family
+    slant = cairo.FONT_SLANT_OBLIQUE if item.font.endswith("Oblique") else cairo.FONT_SLANT_NORMAL
     weight = cairo.FONT_WEIGHT_BOLD if item.font.endswith("Bold") else cairo.FONT_WEIGHT_NORMAL
-    ctx.select_font_face("Helvetica", slant, weight)
+    ctx.select_font_face(family, slant, weight)
     # measured at 100 units and scaled: at a few units cairo rounds (hints) each advance
     ctx.set_font_size(100.0)
     return float(ctx.text_extents(item.string)[4]) * item.size_pt * PT_MM / 100.0

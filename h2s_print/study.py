@@ -57,7 +57,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Sequence
 
-from . import templates
+from . import fonts, templates
 from .config import PaperSpec, StudyConfig
 from .errors import ConfigError
 from .layout import (
@@ -256,7 +256,7 @@ def answer_key(sheet: Page, key: SheetKey, heading: str, mark: str, title: str) 
     items.append(Text(x0, sheet.height_mm - band - 1.5, line[0], 10, "Helvetica-Bold", "start",
                       "black", "key_heading"))
     return Page(sheet.width_mm, sheet.height_mm, tuple(items), (Bookmark(mark),), "sheet",
-                title, sheet.margin_mm)
+                title, sheet.margin_mm, sheet.font)
 
 
 # ----------------------------------------------------------------------------- pages
@@ -425,11 +425,12 @@ def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[s
         t = obj.tutorial
         parts = [p.name for p in result.plan.model.parts]
         for vp, final in zip(result.views, result.finals):
-            how = [plain_text(line) for line in templates.lookup(
-                "study", "tutorial.how_basic" if vp.level == "basic" else "tutorial.how")]
-            pages = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name, final=final,
-                                     grid=t.sheet.grid, level_label=condition_name(vp.level),
-                                     how=how)
+            with fonts.using(t.font):  # each tutorial in its own font
+                how = [plain_text(line) for line in templates.lookup(
+                    "study", "tutorial.how_basic" if vp.level == "basic" else "tutorial.how")]
+                pages = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name,
+                                         final=final, grid=t.sheet.grid,
+                                         level_label=condition_name(vp.level), how=how)
             sheet = pages[-1]
             m = t.paper.margin_mm
             w, h = sheet.width_mm, sheet.height_mm
@@ -530,12 +531,15 @@ def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
     files: list[tuple[Path, bytes]] = []
     for participant in cfg.participants:
         rows = [(i, a) for i, a in enumerate(plan) if a.participant == participant]
-        files.append((folder / "packets" / f"{participant}.pdf",
-                      pdf_bytes(packet(cfg, study_id, rows, books))))
-    keys = [answer_key(wb.pages[-1], wb.key,
-                       _t("key.heading", object=wb.title, view=wb.view, condition=wb.condition),
-                       _t("key.bookmark", object=wb.title, condition=wb.condition), cfg.title)
-            for wb in books.values()]
+        with fonts.using(cfg.font):  # covers and questionnaires in the study's font
+            pages = packet(cfg, study_id, rows, books)
+        files.append((folder / "packets" / f"{participant}.pdf", pdf_bytes(pages)))
+    keys = []
+    for wb in books.values():
+        with fonts.using(wb.pages[-1].font):  # the sheet's own font
+            keys.append(answer_key(wb.pages[-1], wb.key, _t(
+                "key.heading", object=wb.title, view=wb.view, condition=wb.condition),
+                _t("key.bookmark", object=wb.title, condition=wb.condition), cfg.title))
     files.append((folder / "answer-keys.pdf", pdf_bytes(keys)))
     for wb in books.values():
         files.append((wb.key.printed, render_png(_blank(wb.pages[-1]), PX_PER_MM * 25.4)))

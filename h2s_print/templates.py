@@ -13,10 +13,12 @@ import functools
 import string
 from importlib import resources
 from pathlib import Path
+from collections.abc import Iterator
 from typing import Any
 
 import yaml
 
+from . import fonts
 from .errors import H2SError
 from .glyphs import describe, unprintable
 from .yamlfile import DuplicateKey, read_yaml
@@ -64,10 +66,6 @@ def _validate(name: str, path: Path, node: Any, key: str = "") -> None:
         except ValueError as exc:
             raise H2SError(f"{path}: {key}: not a valid template ({exc}): {node!r}") from None
         fields = [f for _, f, _, _ in parts if f is not None]
-        ch = unprintable("".join(lit for lit, _, _, _ in parts))
-        if ch is not None:
-            raise H2SError(f"{path}: {key}: character {describe(ch)} cannot be printed in the "
-                           f"page font (Helvetica: Latin-1 and Windows-1252)")
         known = FIELDS.get(name)
         for f in fields:
             base = f.split(".")[0].split("[")[0]
@@ -89,6 +87,37 @@ def load(name: str) -> dict[str, Any]:
         raise H2SError(f"{path}: expected a mapping of template keys")
     _validate(name, path, data)
     return data
+
+
+def _literals(node: Any, key: str = "") -> Iterator[tuple[str, str]]:
+    """(key path, literal text) of every template in ``node``."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _literals(v, f"{key}.{k}" if key else str(k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _literals(v, f"{key}[{i}]")
+    elif isinstance(node, str):
+        yield key, "".join(lit for lit, _, _, _ in string.Formatter().parse(node))
+
+
+@functools.lru_cache(maxsize=8)
+def check_font(spec: fonts.FontSpec | None = None) -> None:
+    """Every template's own text (placeholders aside) is printable in ``spec`` (default: the
+    default page font), checked before any work so a translation in a script the font lacks
+    is an error naming the file, key and character, never ``?`` on a page.
+
+    Raises:
+        H2SError: the first character the font cannot print.
+    """
+    with fonts.using(spec) as font:
+        for name in FIELDS:
+            path = _folder() / f"{name}.yaml"
+            for key, literal in _literals(load(name)):
+                ch = unprintable(literal)
+                if ch is not None:
+                    raise H2SError(f"{path}: {key}: character {describe(ch)} cannot be printed "
+                                   f"in the page font ({font.name})")
 
 
 def lookup(name: str, key: str) -> Any:

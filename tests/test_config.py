@@ -10,6 +10,8 @@ from h2s_print.config import (BookConfig, PaperSpec, TutorialConfig, load_config
                               load_tutorial)
 from h2s_print.errors import ConfigError
 
+from conftest import REPO
+
 GOOD = """\
 title: Digital SLR camera
 model:
@@ -211,11 +213,13 @@ def test_the_shipped_templates_pass_their_own_check():
 
 @pytest.mark.parametrize("title, ok", [("Appareil photo reflex numérique", True),
                                        ("Kamera – Übung 1 ½", True),
-                                       ("Фотоаппарат", False), ("相机", False)])
+                                       ("Фотоаппарат", True), ("Φωτογραφική μηχανή", True),
+                                       ("相机", False)])
 def test_a_title_the_page_font_cannot_print_is_an_error_not_question_marks(tmp_path, title, ok):
-    """Before, a Cyrillic title printed as '???????????' on every page with no word; until an
-    embedded Unicode font (the languages issue), such a character is an error naming the field
-    and the character (the brief: a character that cannot be printed, say so)."""
+    """Before, a Cyrillic title printed as '???????????' on every page with no word.  The
+    default font (DejaVu Sans) prints Latin, Greek and Cyrillic; a character it lacks (Chinese)
+    is an error naming the field, the character and the remedy (the brief: a character that
+    cannot be printed, say so)."""
     path = write(tmp_path, "camera.yaml", GOOD.replace("Digital SLR camera", title))
     if ok:
         assert load_config(path).title == title
@@ -223,7 +227,8 @@ def test_a_title_the_page_font_cannot_print_is_an_error_not_question_marks(tmp_p
     with pytest.raises(ConfigError) as exc:
         load_config(path)
     assert str(exc.value).startswith(f"camera.yaml: title: character {title[0]!r} (U+")
-    assert "cannot be printed" in str(exc.value)
+    assert "cannot be printed in the page font (DejaVu Sans)" in str(exc.value)
+    assert "config 'font:'" in str(exc.value)
 
 
 @pytest.mark.parametrize("text, message", [
@@ -237,18 +242,26 @@ def test_a_title_the_page_font_cannot_print_is_an_error_not_question_marks(tmp_p
     ("headline:\n  first: \"{Part: the first {shape}.\"\n", r"headline.first: not a valid template"),
     ("substep:\n  edge: \"Use the edge {}.\"\n", r"substep.edge: unknown placeholder \{\}"),
     # a character the page font cannot print
-    ("headline:\n  first: \"{Part}: первый {shape}.\"\n",
-     r"headline.first: character 'п' \(U\+043F"),
+    ("headline:\n  first: \"{Part}: 第一 {shape}.\"\n",
+     r"headline.first: character '第' \(U\+7B2C .*\) cannot be printed in the page font "
+     r"\(DejaVu Sans\)"),
 ])
 def test_a_bad_template_file_is_refused_when_read(tmp_path, monkeypatch, text, message):
+    import shutil
+
     from h2s_print import templates
     from h2s_print.errors import H2SError
 
+    for other in (REPO / "templates").glob("*.yaml"):
+        shutil.copy(other, tmp_path)
     (tmp_path / "steps.yaml").write_text(text)
     monkeypatch.setattr(templates, "_folder", lambda: tmp_path)
     templates.load.cache_clear()
+    templates.check_font.cache_clear()
     try:
         with pytest.raises(H2SError, match=message):
             templates.load("steps")
+            templates.check_font()  # what the command line runs before any work
     finally:
         templates.load.cache_clear()
+        templates.check_font.cache_clear()

@@ -1,0 +1,200 @@
+"""The page font: an embedded Unicode TrueType font, measured as it is drawn (issue 15).
+
+Pages are set in **DejaVu Sans** by default (regular, bold, oblique): Latin, Greek, Cyrillic
+and many more scripts, taken from matplotlib's package data (a well-kept package that ships
+the DejaVu files and their licence), never copied into this repository.  A config's ``font:``
+names a TrueType/OpenType file of the user's instead (a CJK font, say), for every style or
+one file per style.  PDFs embed the glyphs they use (ReportLab subsets TrueType fonts); PNGs
+are drawn by cairosvg in the same font (the file is added to fontconfig's application fonts),
+so text widths match; SVGs name the font's family and carry the width it was laid out at.
+
+A :class:`FontSpec` is plain paths, so it pickles to worker processes.  Layout measures text
+in the **current** font (:func:`using`, :func:`current`): a context variable set around the
+layout of one workbook, so measuring and drawing agree without threading the font through
+every layout helper.  ``Text.font`` keeps naming a *style* with the names of old
+(``Helvetica``, ``Helvetica-Bold``, ``Helvetica-Oblique``: :data:`STYLES`), resolved in the
+page's font.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import functools
+import hashlib
+import importlib.util
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import H2SError
+
+#: The style keys ``Text.font`` holds, and the attribute of :class:`FontSpec` each selects.
+STYLES = {"Helvetica": "regular", "Helvetica-Bold": "bold", "Helvetica-Oblique": "oblique"}
+#: The default font's files inside matplotlib's package data.
+DEJAVU = {"regular": "DejaVuSans.ttf", "bold": "DejaVuSans-Bold.ttf",
+          "oblique": "DejaVuSans-Oblique.ttf"}
+
+
+class FontError(H2SError):
+    """A font file that cannot be read, or text it cannot draw."""
+
+
+@dataclass(frozen=True, slots=True)
+class FontSpec:
+    """The three faces pages are set in.
+
+    Attributes:
+        regular, bold, oblique: TrueType/OpenType files (one file may serve several).
+        name: how messages call it ("DejaVu Sans", or the config's file name).
+    """
+
+    regular: Path
+    bold: Path
+    oblique: Path
+    name: str
+
+    def path(self, style: str) -> Path:
+        """The file of a ``Text.font`` style (:data:`STYLES`)."""
+        return getattr(self, STYLES.get(style, "regular"))
+
+
+@dataclass(frozen=True, slots=True)
+class Face:
+    """One loaded font file.
+
+    Attributes:
+        path: the file.
+        key: the name it is registered under with ReportLab (stable for a file).
+        family: its family name (SVG ``font-family``).
+        bold, italic: its own weight and slant (SVG says them only when the file has them).
+        widths: advance width per code point, in 1/1000 em.
+        default_width: the advance of a code point it lacks (never drawn: checked first).
+    """
+
+    path: Path
+    key: str
+    family: str
+    bold: bool
+    italic: bool
+    widths: dict[int, float]
+    default_width: float
+
+    def has(self, ch: str) -> bool:
+        return ord(ch) in self.widths
+
+
+def _matplotlib_fonts() -> Path:
+    spec = importlib.util.find_spec("matplotlib")
+    if spec is None or not spec.submodule_search_locations:
+        raise FontError("the default page font (DejaVu Sans) comes with matplotlib, which is "
+                        "not installed: pip install matplotlib, or give a config 'font:'")
+    return Path(list(spec.submodule_search_locations)[0]) / "mpl-data" / "fonts" / "ttf"
+
+
+@functools.lru_cache(maxsize=1)
+def default_spec() -> FontSpec:
+    """DejaVu Sans from matplotlib's package data."""
+    folder = _matplotlib_fonts()
+    return FontSpec(*(folder / DEJAVU[s] for s in ("regular", "bold", "oblique")),
+                    name="DejaVu Sans")
+
+
+@functools.lru_cache(maxsize=32)
+def face(path: Path) -> Face:
+    """The font file at ``path``, loaded and registered with ReportLab (cached).
+
+    Raises:
+        FontError: not a TrueType/OpenType font ReportLab can embed.
+    """
+    from reportlab.pdfbase import pdfmetrics
+    from reportlab.pdfbase.ttfonts import TTFont, TTFError
+
+    key = "h2s-" + hashlib.sha1(str(path).encode("utf-8")).hexdigest()[:12]
+    try:
+        font = TTFont(key, str(path))
+    except (TTFError, OSError, ValueError) as exc:
+        raise FontError(f"{path}: cannot be used as the page font ({exc})") from None
+    pdfmetrics.registerFont(font)
+    f = font.face
+    family = f.familyName.decode("utf-8", "replace") if isinstance(f.familyName, bytes) \
+        else str(f.familyName)
+    flags = int(getattr(f, "flags", 0))
+    name = f.name.decode("latin-1", "replace") if isinstance(f.name, bytes) else str(f.name)
+    bold = "bold" in name.lower()
+    italic = bool(flags & 64) or "oblique" in name.lower() or "italic" in name.lower()
+    return Face(path, key, family, bold, italic, dict(f.charWidths), float(f.defaultWidth))
+
+
+_current: contextvars.ContextVar[FontSpec | None] = contextvars.ContextVar("h2s_font",
+                                                                            default=None)
+
+
+def current() -> FontSpec:
+    """The font layout measures in now (the default outside :func:`using`)."""
+    return _current.get() or default_spec()
+
+
+@contextlib.contextmanager
+def using(spec: FontSpec | None) -> Iterator[FontSpec]:
+    """Lay out (measure) in ``spec`` inside the ``with`` block (``None``: the default)."""
+    token = _current.set(spec)
+    try:
+        yield current()
+    finally:
+        _current.reset(token)
+
+
+def width_mm(text: str, size_pt: float, style: str = "Helvetica",
+             spec: FontSpec | None = None) -> float:
+    """Advance width of ``text`` set in ``style`` of ``spec`` (default: current) at
+    ``size_pt``, mm."""
+    return _em_width(spec or current(), style, text) / 1000.0 * size_pt * 25.4 / 72.0
+
+
+@functools.lru_cache(maxsize=1 << 16)
+def _em_width(spec: FontSpec, style: str, text: str) -> float:
+    """Advance of ``text`` in 1/1000 em (cached: layout measures the same labels and lines
+    again and again while it places them; a book asks 160 000 times)."""
+    f = face(spec.path(style))
+    widths, default = f.widths, f.default_width
+    return sum(widths.get(ord(ch), default) for ch in text)
+
+
+def missing(text: str, spec: FontSpec | None = None) -> str | None:
+    """The first character of ``text`` that a face of ``spec`` (default: current) cannot
+    draw, or None (line breaks and tabs are spaces on a page)."""
+    have = coverage(spec or current())
+    for ch in str(text):
+        if ord(ch) not in have and ch not in "\n\t":
+            return ch
+    return None
+
+
+@functools.lru_cache(maxsize=32)
+def coverage(spec: FontSpec) -> frozenset[int]:
+    """The code points every face of ``spec`` draws."""
+    faces = [face(spec.path(style)) for style in STYLES]
+    have = set(faces[0].widths)
+    for f in faces[1:]:
+        have &= set(f.widths)
+    return frozenset(have)
+
+
+@functools.lru_cache(maxsize=32)
+def fontconfig_add(path: Path) -> bool:
+    """Make ``path`` known to fontconfig (as an application font), so cairo (cairosvg's PNG
+    pages) draws in it; True when fontconfig took it."""
+    import ctypes
+    import ctypes.util
+
+    lib = ctypes.util.find_library("fontconfig")
+    if not lib:
+        return False
+    try:
+        fc = ctypes.CDLL(lib)
+        fc.FcConfigAppFontAddFile.argtypes = [ctypes.c_void_p, ctypes.c_char_p]
+        fc.FcConfigAppFontAddFile.restype = ctypes.c_int
+        return bool(fc.FcConfigAppFontAddFile(None, str(path).encode("utf-8")))
+    except (OSError, AttributeError):
+        return False
