@@ -230,6 +230,7 @@ class TutorialConfig:
     output: OutputSettings = field(default_factory=OutputSettings)
     sheet: SheetSettings = field(default_factory=SheetSettings)
     font: FontSpec | None = None  #: the page font (``font:``); None: DejaVu Sans
+    language: str = "en"  #: the wording's language (``language:``, templates/<code>/)
 
 
 @dataclass(frozen=True, slots=True)
@@ -243,6 +244,7 @@ class BookConfig:
     tutorials: tuple[TutorialConfig, ...]
     paper: PaperSpec = field(default_factory=PaperSpec)
     font: FontSpec | None = None
+    language: str = "en"
 
 
 @dataclass(frozen=True, slots=True)
@@ -287,6 +289,7 @@ class StudyConfig:
     seed: int = 0
     paper: PaperSpec = field(default_factory=PaperSpec)
     font: FontSpec | None = None  #: covers and questionnaires (each tutorial keeps its own)
+    language: str = "en"  #: covers and questionnaires (each tutorial keeps its own)
 
 
 # --------------------------------------------------------------------------- reading
@@ -489,7 +492,7 @@ def load_tutorial(path: str | Path) -> TutorialConfig:
 
 
 _TUTORIAL_KEYS = ("title", "model", "views", "levels", "paper", "solver", "sequence", "output",
-                  "sheet", "font")
+                  "sheet", "font", "language")
 
 
 def _tutorial(path: Path, data: Any) -> TutorialConfig:
@@ -527,7 +530,14 @@ def _tutorial(path: Path, data: Any) -> TutorialConfig:
         output=root.get("output", _output, OutputSettings()),
         sheet=root.get("sheet", _sheet, SheetSettings()),
         font=font,
+        language=root.get("language", _language, "en"),
     )
+
+
+def _language(node: _Node) -> str:
+    from . import templates
+
+    return node.choice(templates.languages())
 
 
 def _font(node: _Node, base: Path) -> FontSpec:
@@ -665,7 +675,7 @@ STUDY_DESIGNS = ("fixed-first", "latin-square")
 
 def _study(path: Path, data: Any) -> StudyConfig:
     root = _Node(path.name, "", data)
-    root.mapping(("title", "study", "paper", "font"), required=("study",))
+    root.mapping(("title", "study", "paper", "font", "language"), required=("study",))
     font = root.get("font", lambda n: _font(n, path.parent), None)
     node = root.child("study")
     node.mapping(("participants", "objects", "conditions", "design", "first", "seed"),
@@ -732,12 +742,13 @@ def _study(path: Path, data: Any) -> StudyConfig:
         participants=participants, objects=tuple(objects), conditions=conditions,
         design=design, first=first if design == "fixed-first" else "",
         seed=node.get("seed", lambda n: n.integer(0, 2**31 - 1), 0),
-        paper=root.get("paper", _paper, PaperSpec()), font=font)
+        paper=root.get("paper", _paper, PaperSpec()), font=font,
+        language=root.get("language", _language, "en"))
 
 
 def _book(path: Path, data: Any, stack: tuple[Path, ...]) -> BookConfig:
     root = _Node(path.name, "", data)
-    root.mapping(("title", "tutorials", "paper", "font"), required=("tutorials",))
+    root.mapping(("title", "tutorials", "paper", "font", "language"), required=("tutorials",))
     font = root.get("font", lambda n: _font(n, path.parent), None)
     entries = root.child("tutorials").items()
     if not entries:
@@ -762,4 +773,5 @@ def _book(path: Path, data: Any, stack: tuple[Path, ...]) -> BookConfig:
     paper = root.get("paper", _paper, tutorials[0].paper)
     return BookConfig(path=here, name=path.stem, title=root.get(
                       "title", lambda n: n.printed_text(font), path.stem),
-                      tutorials=tuple(tutorials), paper=paper, font=font)
+                      tutorials=tuple(tutorials), paper=paper, font=font,
+                      language=root.get("language", _language, "en"))

@@ -1030,8 +1030,7 @@ def _instruction(x: float, top: float, width: float, step: Step, size: float
 def _erase_hint(plan: ViewPlan, i: int) -> str:
     """The step's "you may erase ..." line (empty when nothing retires)."""
     extra = _erasable(plan, i)
-    return "" if extra == 0 else (_t("step.erase_one") if extra == 1
-                                  else _t("step.erase_many", n=extra))
+    return "" if extra == 0 else plain_text(templates.plural("pages", "step.erase", extra))
 
 
 def _steps_per_page(plan: ViewPlan) -> int:
@@ -1694,7 +1693,7 @@ def lay_out_book(title: str, workbooks: Sequence[tuple[str, tuple[Page, ...]]]) 
     items += para
     para, top = _paragraph(x0, top - 4, x1 - x0, title, 30, font="Helvetica-Bold", role="title")
     items += para
-    count = _t("book.count_one") if len(workbooks) == 1 else _t("book.count_many", n=len(workbooks))
+    count = plain_text(templates.plural("pages", "book.count", len(workbooks)))
     para, _ = _paragraph(x0, top - 6, x1 - x0, count, 12, role="count")
     items += para
     out: list[Page] = [Page(w, h, tuple(items), (Bookmark(_t("book.bookmark_title")),), "title", title, m)]

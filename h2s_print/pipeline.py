@@ -256,7 +256,8 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     from . import templates
 
     progress = progress or _quiet
-    templates.check_font(tutorial.font)  # the wording, before any work
+    with templates.using(tutorial.language):
+        templates.check_font(tutorial.font)  # the wording, before any work
     plan, cached = get_plan(tutorial, cache_dir=cache_dir, progress=progress)
     check_printable(tutorial, plan)
     views: list[ViewPlan] = []
@@ -264,8 +265,9 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     for i, view in enumerate(tutorial.views):
         try:
             # one call per view: its levels share the camera and the contour work
-            made = sequence_workbooks(plan, view, tutorial.levels, tutorial.paper,
-                                      tutorial.sequence)
+            with templates.using(tutorial.language):  # the steps' wording
+                made = sequence_workbooks(plan, view, tutorial.levels, tutorial.paper,
+                                          tutorial.sequence)
         except H2SError as exc:
             raise in_config(exc, tutorial.path, f"views[{i}]") from None
         for vp, final in made:
@@ -285,12 +287,14 @@ def plan_bytes(result: TutorialResult) -> bytes:
 
 def steps_text(result: TutorialResult) -> str:
     """Every view's steps as readable text (``h2s plan --text``)."""
+    from . import templates
     from .sequence import steps_text as view_text
 
     blocks = []
     for vp in result.views:
-        blocks.append(f"== {result.tutorial.title}: view {vp.name}, level {vp.level} ==\n"
-                      + view_text(vp))
+        with templates.using(result.tutorial.language):
+            blocks.append(f"== {result.tutorial.title}: view {vp.name}, level {vp.level} ==\n"
+                          + view_text(vp))
     return "\n".join(blocks)
 
 
@@ -363,11 +367,12 @@ def build_tutorial(tutorial: TutorialConfig, folder: Path, *, pdfs: bool,
         cache_dir: plan cache folder, or ``None``.
         progress: called with an :class:`Event` per stage done.
     """
-    from . import fonts
+    from . import fonts, templates
 
     progress = progress or _quiet
     result = plan_tutorial(tutorial, cache_dir=cache_dir, progress=progress)
-    with fonts.using(tutorial.font):  # measured and drawn in the tutorial's font
+    # measured and drawn in the tutorial's font, worded in its language
+    with fonts.using(tutorial.font), templates.using(tutorial.language):
         return _lay_out_and_render(result, folder, pdfs, progress)
 
 
@@ -567,10 +572,11 @@ def build_files(cfg: TutorialConfig | BookConfig, out_dir: Path, *, jobs: int = 
         for vp, pages in zip(result.views, built.workbooks):
             label = OUTLINE_SEP.join((result.tutorial.title, vp.name, vp.level))
             workbooks.append((label, pages))
-    from . import fonts
+    from . import fonts, templates
 
     try:
-        with fonts.using(cfg.font):  # the title and contents pages; workbooks keep theirs
+        # the title and contents pages; workbooks keep theirs
+        with fonts.using(cfg.font), templates.using(cfg.language):
             pages = lay_out_book(cfg.title, workbooks)
     except H2SError as exc:
         raise in_config(exc, cfg.path, "tutorials") from None

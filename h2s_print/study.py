@@ -425,7 +425,7 @@ def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[s
         t = obj.tutorial
         parts = [p.name for p in result.plan.model.parts]
         for vp, final in zip(result.views, result.finals):
-            with fonts.using(t.font):  # each tutorial in its own font
+            with fonts.using(t.font), templates.using(t.language):  # each in its own
                 how = [plain_text(line) for line in templates.lookup(
                     "study", "tutorial.how_basic" if vp.level == "basic" else "tutorial.how")]
                 pages = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name,
@@ -531,12 +531,12 @@ def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
     files: list[tuple[Path, bytes]] = []
     for participant in cfg.participants:
         rows = [(i, a) for i, a in enumerate(plan) if a.participant == participant]
-        with fonts.using(cfg.font):  # covers and questionnaires in the study's font
+        with fonts.using(cfg.font), templates.using(cfg.language):  # the study's own
             pages = packet(cfg, study_id, rows, books)
         files.append((folder / "packets" / f"{participant}.pdf", pdf_bytes(pages)))
     keys = []
     for wb in books.values():
-        with fonts.using(wb.pages[-1].font):  # the sheet's own font
+        with fonts.using(wb.pages[-1].font), templates.using(cfg.language):
             keys.append(answer_key(wb.pages[-1], wb.key, _t(
                 "key.heading", object=wb.title, view=wb.view, condition=wb.condition),
                 _t("key.bookmark", object=wb.title, condition=wb.condition), cfg.title))

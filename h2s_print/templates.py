@@ -5,10 +5,24 @@ place to reword or translate).  An installed wheel carries them as ``h2s_print/t
 (hatchling ``force-include``); a source checkout reads the repository's folder.
 
 Templates are ``str.format`` strings: ``text("steps", "primitive.first", part="body")``.
+
+**Languages** (issue 15).  English is ``templates/<name>.yaml``; another language is a folder
+``templates/<code>/`` with the same four files (``de``, ``fr`` ...: :data:`LANGUAGES` is
+what the folder holds).  A translation has exactly the English file's keys (a missing or extra
+key is an error naming the file and key, so nothing falls back to English unsaid), the same
+placeholders (:data:`FIELDS`) and only characters the page font prints.  The language is
+chosen per tutorial (config ``language:``) and set around its wording by :func:`using`; every
+lookup reads the current one.  Plurals: a mapping whose keys are CLDR plural categories
+(``one``, ``few``, ``many``, ``other`` ...) is chosen by count with the language's own rules
+(Babel: Russian "1 линию, 2 линии, 5 линий"), :func:`plural`; a translation gives the
+categories its language has.  Word order and grammar are the translation's: whole sentences are
+templates, and names of faces, sides and dimensions are word lists in the same files.
 """
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import functools
 import string
 from importlib import resources
@@ -74,19 +88,131 @@ def _validate(name: str, path: Path, node: Any, key: str = "") -> None:
                                f"{', '.join(sorted(known or ()))})")
 
 
-@functools.lru_cache(maxsize=None)
-def load(name: str) -> dict[str, Any]:
-    """The parsed ``templates/<name>.yaml`` (cached; treat as read-only), every template in it
-    checked: well-formed, and only the placeholders in :data:`FIELDS`."""
-    path = _folder() / f"{name}.yaml"
+#: CLDR plural categories: a mapping with only these keys is a plural (:func:`plural`).
+PLURAL_CATEGORIES = frozenset(("zero", "one", "two", "few", "many", "other"))
+ENGLISH = "en"
+
+
+def languages() -> tuple[str, ...]:
+    """The languages shipped: English and every folder of ``templates/`` holding a
+    translation (``steps.yaml``)."""
+    found = sorted(p.name for p in _folder().iterdir() if (p / "steps.yaml").is_file())
+    return (ENGLISH, *found)
+
+
+_language: contextvars.ContextVar[str] = contextvars.ContextVar("h2s_language",
+                                                                default=ENGLISH)
+
+
+def current_language() -> str:
+    return _language.get()
+
+
+@contextlib.contextmanager
+def using(language: str | None) -> Iterator[str]:
+    """Read the wording in ``language`` (``None``: English) inside the ``with`` block."""
+    token = _language.set(language or ENGLISH)
+    try:
+        yield _language.get()
+    finally:
+        _language.reset(token)
+
+
+def _path(name: str, language: str) -> Path:
+    return _folder() / f"{name}.yaml" if language == ENGLISH else _folder() / language / f"{name}.yaml"
+
+
+def _read(path: Path) -> dict[str, Any]:
     try:
         data = read_yaml(path.read_text(encoding="utf-8"))
     except (OSError, yaml.YAMLError, DuplicateKey) as exc:
         raise H2SError(f"{path}: cannot read template file: {exc}") from None
     if not isinstance(data, dict):
         raise H2SError(f"{path}: expected a mapping of template keys")
-    _validate(name, path, data)
     return data
+
+
+def _is_plural(node: Any) -> bool:
+    return isinstance(node, dict) and bool(node) and set(node) <= PLURAL_CATEGORIES
+
+
+def _same_keys(path: Path, english: Any, other: Any, language: str, key: str = "") -> None:
+    """``other`` (a translation) has exactly ``english``'s keys, and each plural the
+    categories its language needs."""
+    where = f"{path}: {key}: " if key else f"{path}: "
+    if _is_plural(english):
+        if not isinstance(other, dict) or not set(other) <= PLURAL_CATEGORIES:
+            raise H2SError(f"{where}expected plural forms ({', '.join(sorted(PLURAL_CATEGORIES))})")
+        need = set(_plural_tags(language))
+        if not need <= set(other):
+            raise H2SError(f"{where}missing plural forms {', '.join(sorted(need - set(other)))} "
+                           f"(the language has {', '.join(sorted(need))})")
+        return
+    if isinstance(english, dict):
+        if not isinstance(other, dict):
+            raise H2SError(f"{where}expected a mapping of keys, as in English")
+        for k in english:
+            if k not in other:
+                raise H2SError(f"{path}: {key + '.' if key else ''}{k}: missing (the English "
+                               f"file has it)")
+        for k in other:
+            if k not in english:
+                raise H2SError(f"{path}: {key + '.' if key else ''}{k}: unknown key (not in "
+                               f"the English file)")
+        for k in english:
+            _same_keys(path, english[k], other[k], language, f"{key}.{k}" if key else str(k))
+    elif isinstance(english, list):
+        if not isinstance(other, list) or not other:
+            raise H2SError(f"{where}expected a list, as in English")
+        if len({type(v) for v in english}) == 1 and isinstance(english[0], dict):
+            for i, v in enumerate(other):
+                _same_keys(path, english[0], v, language, f"{key}[{i}]")
+    elif not isinstance(other, str):
+        raise H2SError(f"{where}expected a text, as in English")
+
+
+@functools.lru_cache(maxsize=None)
+def _plural_tags(language: str) -> tuple[str, ...]:
+    from babel import Locale
+
+    return tuple(sorted(Locale.parse(language).plural_form.tags | {"other"}))
+
+
+@functools.lru_cache(maxsize=None)
+def _load(name: str, language: str) -> dict[str, Any]:
+    path = _path(name, language)
+    data = _read(path)
+    _validate(name, path, data)
+    if language != ENGLISH:
+        _same_keys(path, _load(name, ENGLISH), data, language)
+    return data
+
+
+def load(name: str, language: str | None = None) -> dict[str, Any]:
+    """The parsed ``templates/[<language>/]<name>.yaml`` (default: the current language;
+    cached, treat as read-only), every template in it checked: well-formed, only the
+    placeholders in :data:`FIELDS`, and (a translation) exactly the English file's keys."""
+    language = language or current_language()
+    if language != ENGLISH and language not in languages():
+        raise H2SError(f"no wording in language {language!r} (shipped: "
+                       f"{', '.join(languages())})")
+    return _load(name, language)
+
+
+load.cache_clear = _load.cache_clear  # type: ignore[attr-defined]
+
+
+def plural(name: str, key: str, n: int, **fields: Any) -> str:
+    """The plural template at ``key`` for count ``n`` in the current language's plural rules,
+    formatted with ``n`` and ``fields``."""
+    forms = lookup(name, key)
+    if not _is_plural(forms):
+        raise KeyError(f"templates/{name}.yaml: {key!r} is not a plural mapping")
+    from babel import Locale
+
+    category = Locale.parse(current_language()).plural_form(n)
+    template = forms.get(category, forms["other"])
+    return template.format(n=n, **fields)
 
 
 def _literals(node: Any, key: str = "") -> Iterator[tuple[str, str]]:
@@ -101,7 +227,6 @@ def _literals(node: Any, key: str = "") -> Iterator[tuple[str, str]]:
         yield key, "".join(lit for lit, _, _, _ in string.Formatter().parse(node))
 
 
-@functools.lru_cache(maxsize=8)
 def check_font(spec: fonts.FontSpec | None = None) -> None:
     """Every template's own text (placeholders aside) is printable in ``spec`` (default: the
     default page font), checked before any work so a translation in a script the font lacks
@@ -110,10 +235,15 @@ def check_font(spec: fonts.FontSpec | None = None) -> None:
     Raises:
         H2SError: the first character the font cannot print.
     """
+    _check_font(spec, current_language())
+
+
+@functools.lru_cache(maxsize=16)
+def _check_font(spec: fonts.FontSpec | None, language: str) -> None:
     with fonts.using(spec) as font:
         for name in FIELDS:
-            path = _folder() / f"{name}.yaml"
-            for key, literal in _literals(load(name)):
+            path = _path(name, language)
+            for key, literal in _literals(load(name, language)):
                 ch = unprintable(literal)
                 if ch is not None:
                     raise H2SError(f"{path}: {key}: character {describe(ch)} cannot be printed "
@@ -143,3 +273,6 @@ def text(name: str, key: str, **fields: Any) -> str:
     if not isinstance(template, str):
         raise KeyError(f"templates/{name}.yaml: {key!r} is not a text template")
     return template.format(**fields)
+
+
+check_font.cache_clear = _check_font.cache_clear  # type: ignore[attr-defined]
