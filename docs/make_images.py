@@ -67,6 +67,9 @@ def main() -> None:
     }
     wanted["page-step-spacing"] = _spacing_page()
     wanted["page-cyrillic"] = _cyrillic_page()
+    cjk = _cjk_page()
+    if cjk is not None:
+        wanted["page-cjk"] = cjk
     for name, page in wanted.items():
         path = ROOT / "docs" / f"{name}.png"
         path.write_bytes(render_png(page, dpi=DPI))
@@ -110,23 +113,45 @@ def _spacing_page():
 
 
 def _cyrillic_page():
-    """A step page of the camera with a Russian title and part names, in the default font."""
+    """A step page of the camera in Russian, with a Russian title and part names, in the
+    default font."""
+    return _camera_page("title: Зеркальный фотоаппарат\nlanguage: ru",
+                        "{body: корпус, lens: объектив, grip: рукоятка}")
+
+
+CJK_FONT = Path("/usr/share/fonts/truetype/wqy/wqy-microhei.ttc")  # Debian fonts-wqy-microhei
+
+
+def _cjk_page():
+    """A step page of the camera with a Chinese title and part names, in a CJK font given by
+    ``font:`` (the wording stays English: no Chinese translation is shipped)."""
+    if not CJK_FONT.is_file():
+        print(f"skipped page-cjk.png: {CJK_FONT} not installed (Debian fonts-wqy-microhei)")
+        return None
+    return _camera_page(f"title: 单反相机\nfont: {CJK_FONT}", "{body: 机身, lens: 镜头, grip: 手柄}")
+
+
+def _camera_page(title: str, rename: str):
+    """The camera's third step page (novice, front-left) with ``title`` (and other top-level
+    keys) and parts renamed by ``rename``."""
     import tempfile
+
+    from h2s_print import fonts, templates
 
     text = (ROOT / "configs" / "camera.yaml").read_text(encoding="utf-8")
     text = text.replace("models/camera.glb", str(ROOT / "configs" / "models" / "camera.glb"))
-    text = text.replace("title: Digital SLR camera", "title: Зеркальный фотоаппарат")
+    text = text.replace("title: Digital SLR camera", title)
     text = text.replace("  units: mm                 # the examples are modelled in millimetres",
-                        "  units: mm\n  parts: {rename: {body: корпус, lens: объектив, "
-                        "grip: рукоятка}}")
+                        f"  units: mm\n  parts: {{rename: {rename}}}")
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "camera.yaml"
         path.write_text(text, encoding="utf-8")
         tutorial = load_tutorial(path)
         result = plan_tutorial(tutorial)
     view = result.views[0]
-    pages = lay_out_workbook(tutorial.title, view, tutorial.paper, view_label=view.name,
-                             final=result.finals[0])
+    with fonts.using(tutorial.font), templates.using(tutorial.language):
+        pages = lay_out_workbook(tutorial.title, view, tutorial.paper, view_label=view.name,
+                                 final=result.finals[0])
     return [p for p in pages if p.kind == "steps"][2]
 
 

@@ -292,6 +292,24 @@ def wrap(string: str, width_mm: float, size_pt: float, font: str = "Helvetica") 
     return lines
 
 
+def fit_line(string: str, width_mm: float, size_pt: float, font: str = "Helvetica",
+             smallest_pt: float = 5.0) -> float:
+    """The largest size, from ``size_pt`` down to ``smallest_pt`` in half points, at which
+    ``string`` fits on one line ``width_mm`` wide: a one-line text (a header, a stamp) is set
+    smaller rather than cut.
+
+    Raises:
+        RenderError: it does not fit even at ``smallest_pt`` (never cut silently).
+    """
+    size = size_pt
+    while size >= smallest_pt:
+        if text_width_mm(string, size, font) <= width_mm:
+            return size
+        size -= 0.5
+    raise RenderError(f"text does not fit on one line of {width_mm:.0f} mm even at "
+                      f"{smallest_pt:g} pt: {string!r}")
+
+
 def _leading(size_pt: float) -> float:
     """Baseline-to-baseline distance for ``size_pt`` text, mm."""
     return 1.25 * size_pt * PT_MM
@@ -697,9 +715,10 @@ def _header(f: _Frame, left: str, right: str = "") -> tuple[list[Item], float]:
     items: list[Item] = []
     right_w = text_width_mm(right, 9, "Helvetica") if right else 0.0
     avail = x1 - x0 - right_w - 6
-    left_line = wrap(left, avail, size, "Helvetica-Bold")[:1]
-    if left_line:
-        items.append(Text(x0, base, left_line[0], size, "Helvetica-Bold", "start", "black", "header"))
+    left = plain_text(left)
+    if left:
+        items.append(Text(x0, base, left, fit_line(left, avail, size, "Helvetica-Bold", 6.0),
+                          "Helvetica-Bold", "start", "black", "header"))
     if right:
         items.append(Text(x1, base, right, 9, "Helvetica", "end", "black", "header"))
     rule_y = base - 2.6
@@ -1451,9 +1470,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     head = _t("sheet.heading", title=title, view=plain_text(view_label or plan.name),
               level=_level_name(plan.level))
     hx0, hx1 = band + r + 3, w - band - r - 3
-    line = wrap(head, hx1 - hx0, 7)[:1]
-    if line:
-        items.append(Text(hx0, h - band - 0.9, line[0], 7, "Helvetica", "start", "grey", "sheet_title"))
+    items.append(Text(hx0, h - band - 0.9, head, fit_line(head, hx1 - hx0, 7), "Helvetica",
+                      "start", "grey", "sheet_title"))
     bar_x0 = band + r + 5
     bar_y = band - 0.5
     items.append(Polyline(((bar_x0, bar_y), (bar_x0 + 100.0, bar_y)), "black", 0.3, (), False, "scale_bar"))

@@ -675,10 +675,20 @@ def rank_study(folder: Path, judgments: Path | None = None
     Raises:
         H2SError: a user's mistake, naming the file (and line); nothing is written then.
     """
-    from . import rank
-    from .studyfile import StudyError, read_study
+    from . import fonts, templates
+    from .studyfile import read_study
 
     study = read_study(folder)
+    font = None if study.font is None else fonts.FontSpec(
+        *(Path(f) for f in study.font), name=Path(study.font[0]).name)
+    with templates.using(study.language), fonts.using(font):  # the study's own wording
+        return _rank_files(study, folder, judgments)
+
+
+def _rank_files(study, folder: Path, judgments: Path | None) -> tuple[list[Path], list[str]]:
+    from . import rank
+    from .studyfile import StudyError
+
     out = Path(folder) / rank.RANK_DIR
     kept: list[str] = []
     if judgments is None:

@@ -566,7 +566,11 @@ def pair_pages_pdf(study: Study, pairs: Sequence[Pair],
     pt = 72.0 / 25.4
     W, H = PAGE_MM
     M = MARGIN_MM
-    question = simpleSplit(T["question"], "Helvetica", 12, (W - 2 * M) * pt)
+    from . import fonts
+
+    spec = fonts.current()  # the study's language needs its script: the page font, embedded
+    regular, bold = fonts.face(spec.regular).key, fonts.face(spec.bold).key
+    question = simpleSplit(T["question"], regular, 12, (W - 2 * M) * pt)
     q_top = H - M - 15.0
     panel_top = q_top - 5.5 * len(question) - 9.0
     panel_bottom = M + 15.0
@@ -597,9 +601,9 @@ def pair_pages_pdf(study: Study, pairs: Sequence[Pair],
     scales = {obj: _object_scale(study, obj, box) for obj in {p.object for p in pairs}}
     for n, p in enumerate(pairs, start=1):
         c.setFillColorRGB(0, 0, 0)
-        c.setFont("Helvetica-Bold", 18)
+        c.setFont(bold, 18)
         c.drawString(M * pt, (H - M - 6.0) * pt, T["heading"].format(pair=p.id))
-        c.setFont("Helvetica", 12)
+        c.setFont(regular, 12)
         for i, text in enumerate(question):
             c.drawString(M * pt, (q_top - 5.5 * i) * pt, text)
         for side, row, left in (("side_a", p.a, M), ("side_b", p.b, M + box[0] + GAP_MM)):
@@ -611,9 +615,9 @@ def pair_pages_pdf(study: Study, pairs: Sequence[Pair],
             c.setLineWidth(0.5)
             c.rect(x * pt, y * pt, w_mm * pt, h_mm * pt, stroke=1, fill=0)
             c.setFillColorRGB(0, 0, 0)
-            c.setFont("Helvetica-Bold", 16)
+            c.setFont(bold, 16)
             c.drawString(x * pt, (panel_top + 2.0) * pt, T[side])
-        c.setFont("Helvetica", 9)
+        c.setFont(regular, 9)
         c.setFillColorRGB(0.3, 0.3, 0.3)
         c.drawString(M * pt, (M + 6.0) * pt, T["legend"])
         c.drawString(M * pt, (M + 1.5) * pt, T["answer"].format(pair=p.id))
@@ -856,8 +860,11 @@ def plot_svg(ranking: Ranking, object: str) -> str:
     def fy(count: float) -> float:
         return top + ph - count * unit
 
+    from . import fonts
+
+    family = fonts.face(fonts.current().regular).family.replace("'", "")
     out = [(f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" '
-            f'viewBox="0 0 {W} {H}" font-family="Helvetica, Arial, sans-serif">'),
+            f'viewBox="0 0 {W} {H}" font-family="\'{escape(family)}\', sans-serif">'),
            f'<rect x="0" y="0" width="{W}" height="{H}" fill="#ffffff"/>',
            (f'<text x="{W / 2:.1f}" y="30" font-size="18" font-weight="bold" '
             f'text-anchor="middle">{escape(T["title"].format(object=object))}</text>')]
@@ -923,6 +930,10 @@ def plot_png(ranking: Ranking, object: str) -> bytes:
     """:func:`plot_svg` rasterised by cairosvg: a :data:`PLOT_PX` PNG (same bytes each run)."""
     import cairosvg
 
+    from . import fonts
+
+    for style in fonts.STYLES:  # cairo draws in the page font's own files
+        fonts.fontconfig_add(fonts.current().path(style))
     return cairosvg.svg2png(bytestring=plot_svg(ranking, object).encode("utf-8"),
                             output_width=PLOT_PX[0], output_height=PLOT_PX[1])
 

@@ -62,7 +62,7 @@ from .config import PaperSpec, StudyConfig
 from .errors import ConfigError
 from .layout import (
     Bookmark, Page, Polyline, Rect, Text, _Frame, _header, _paragraph,
-    _with_footers, plain_text, wrap,
+    _with_footers, fit_line, plain_text,
 )
 from .studyfile import Box, Drawing, SheetKey, Study, code_text, study_json
 from .types import Stroke
@@ -223,8 +223,10 @@ def stamped(sheet: Page, code: str, box: Box, stamp: str = "") -> Page:
     for it in sheet.items:
         if stamp and isinstance(it, Text) and it.role == "sheet_title":
             x1 = sheet.width_mm - sheet.margin_mm / 2 - 6.0
-            line = wrap(stamp, x1 - it.x_mm, it.size_pt, it.font)[:1]
-            it = replace(it, string=line[0], colour="black", role="stamp")
+            stamp = plain_text(stamp)
+            it = replace(it, string=stamp, size_pt=fit_line(stamp, x1 - it.x_mm, it.size_pt,
+                                                            it.font), colour="black",
+                         role="stamp")
         items.append(it)
     return replace(sheet, items=tuple(items) + tuple(code_items(code, box)))
 
@@ -252,8 +254,9 @@ def answer_key(sheet: Page, key: SheetKey, heading: str, mark: str, title: str) 
             items.append(Polyline(line, "black", 0.4, (), False, "key"))
     band = sheet.margin_mm / 2
     x0 = band + 6.0
-    line = wrap(heading, sheet.width_mm - 2 * x0, 10, "Helvetica-Bold")[:1]
-    items.append(Text(x0, sheet.height_mm - band - 1.5, line[0], 10, "Helvetica-Bold", "start",
+    heading = plain_text(heading)
+    size = fit_line(heading, sheet.width_mm - 2 * x0, 10, "Helvetica-Bold")
+    items.append(Text(x0, sheet.height_mm - band - 1.5, heading, size, "Helvetica-Bold", "start",
                       "black", "key_heading"))
     return Page(sheet.width_mm, sheet.height_mm, tuple(items), (Bookmark(mark),), "sheet",
                 title, sheet.margin_mm, sheet.font)
@@ -523,8 +526,11 @@ def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
     draft = [Drawing(i, a.participant, a.order, a.object, a.condition,
                      f"{a.object}-{a.condition}", "") for i, a in enumerate(plan)]
     sheets = {wb.key.sheet: wb.key for wb in books.values()}
+    font = None if cfg.font is None else (str(cfg.font.regular), str(cfg.font.bold),
+                                           str(cfg.font.oblique))
     study = Study(folder, "00000000", cfg.title, cfg.seed, cfg.design, cfg.participants,
-                  cfg.conditions, tuple(o.name for o in cfg.objects), tuple(draft), sheets)
+                  cfg.conditions, tuple(o.name for o in cfg.objects), tuple(draft), sheets,
+                  cfg.language, font)
     study_id = _study_id(study_json(study))
     study = replace(study, study_id=study_id, drawings=tuple(
         replace(d, code=code_text(study_id, d.row)) for d in draft))

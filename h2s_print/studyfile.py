@@ -21,7 +21,8 @@ Layout of ``study.json`` (``schema: h2s-study/1``)::
                         "marks_mm": [[x, y] x 4], "mark_radius_mm": float,
                         "code_box_mm": [x0, y0, x1, y1],
                         "printed": "sheets/<sheet>.png", "px_per_mm": float,
-                        "lines": {part: [[[x, y], ...], ...]}}}}
+                        "lines": {part: [[[x, y], ...], ...]}}},
+     "language": "en", "font": null | [regular, bold, oblique]}
 
 ``drawings[i].row == i``; ``code`` is what the sheet's QR code says (:func:`code_text`).
 ``sheets[s].printed`` is the blank sheet (every printed mark, no stamp) rendered at
@@ -111,6 +112,8 @@ class Study:
     objects: tuple[str, ...]
     drawings: tuple[Drawing, ...]
     sheets: dict[str, SheetKey]
+    language: str = "en"  #: the wording of the study's own pages (``h2s rank``'s too)
+    font: tuple[str, str, str] | None = None  #: its font files (regular, bold, oblique)
 
 
 def code_text(study_id: str, row: int) -> str:
@@ -153,6 +156,8 @@ def study_json(study: Study) -> dict[str, Any]:
                       "object": d.object, "condition": d.condition, "sheet": d.sheet,
                       "code": d.code} for d in study.drawings],
         "sheets": sheets,
+        "language": study.language,
+        "font": list(study.font) if study.font else None,
     }
 
 
@@ -260,11 +265,19 @@ def read_study(folder: str | Path) -> Study:
         design = _get(data, "design", str, "study")
         if design not in DESIGNS:
             raise _Bad(f"design: expected one of {', '.join(DESIGNS)}")
+        language = data.get("language", "en")
+        if not isinstance(language, str):
+            raise _Bad("language: expected text")
+        font = data.get("font")
+        if font is not None:
+            font = _texts(font, "font")
+            if len(font) != 3:
+                raise _Bad("font: expected 3 font files (regular, bold, oblique)")
         return Study(folder, study_id, _get(data, "title", str, "study"),
                      _get(data, "seed", int, "study"), design,
                      _texts(_get(data, "participants", list, "study"), "participants"),
                      _texts(_get(data, "conditions", list, "study"), "conditions"),
                      _texts(_get(data, "objects", list, "study"), "objects"),
-                     tuple(drawings), sheets)
+                     tuple(drawings), sheets, language, font)
     except _Bad as exc:
         raise StudyError(f"{path}: {exc}") from None

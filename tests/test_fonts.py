@@ -163,3 +163,38 @@ def test_bad_font_keys_say_where(tmp_path, capsys, value, message):
     assert main(["plan", str(config), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and f"camera.yaml: {message}" in err, err
+
+
+def _installed_cjk_font() -> Path | None:
+    """A TrueType-outlined CJK font fontconfig knows (ReportLab embeds TrueType outlines only:
+    Noto CJK's PostScript outlines are refused), or None."""
+    import subprocess
+
+    try:
+        out = subprocess.run(["fc-list", ":lang=zh", "file"], capture_output=True, text=True,
+                             timeout=20).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    for line in sorted(out.splitlines()):
+        path = Path(line.split(":")[0].strip())
+        try:
+            if fonts.face(path).has("相"):
+                return path
+        except fonts.FontError:
+            continue
+    return None
+
+
+def test_a_real_cjk_font_prints_a_chinese_title_and_part_names(tmp_path):
+    path = _installed_cjk_font()
+    if path is None:
+        pytest.skip("no TrueType-outlined CJK font installed (Debian: fonts-wqy-microhei); "
+                    "the box font above covers the mechanism")
+    config = _camera(tmp_path, lambda s: s.replace(
+        "title: Digital SLR camera", f"title: 单反{CJK_TITLE}\nfont: {path}").replace(
+        "  units: mm                 # the examples are modelled in millimetres",
+        "  units: mm\n  parts: {rename: {body: 机身, lens: 镜头}}"))
+    out = tmp_path / "out"
+    assert main(["-q", "build", str(config), "-o", str(out)]) == 0
+    text = _pdf_text(out / "camera" / "camera-front-left-novice.pdf")
+    assert f"单反{CJK_TITLE}" in text and "机身" in text and "镜头" in text
