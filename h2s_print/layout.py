@@ -53,6 +53,7 @@ from __future__ import annotations
 
 import logging
 import math
+import re
 from dataclasses import dataclass, replace
 from typing import Callable, Iterable, Sequence
 
@@ -267,8 +268,10 @@ def text_width_mm(string: str, size_pt: float, font: str = "Helvetica") -> float
 
 
 def wrap(string: str, width_mm: float, size_pt: float, font: str = "Helvetica") -> list[str]:
-    """Greedy word wrap of ``string`` into lines no wider than ``width_mm`` (long words split)."""
-    words = plain_text(string).split()
+    """Greedy word wrap of ``string`` into lines no wider than ``width_mm`` (long words split);
+    lines break at plain spaces only, never at a no-break space (French « : », Russian
+    «с. 3»)."""
+    words = [w for w in re.split(r"[ \t\n\r]+", plain_text(string)) if w]
     lines: list[str] = []
     line = ""
     for word in words:
