@@ -943,7 +943,8 @@ def _final_strokes(plan: ViewPlan, final: Sequence[Stroke]) -> tuple[Stroke, ...
 
 
 def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
-                final: Sequence[Stroke], level: str, how: Sequence[str] | None = None) -> Page:
+                final: Sequence[Stroke], level: str | None,
+                how: Sequence[str] | None = None) -> Page:
     items: list[Item] = []
     x0, y0, x1, y1 = f.box
     landscape = f.width > f.height
@@ -954,7 +955,8 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
     heading, top = _paragraph(x0, top - 4, text_w, title, 26, font="Helvetica-Bold", role="title")
     items += heading
     top -= 6
-    facts = [_t("cover.view", view=view_label), _t("cover.level", level=level),
+    facts = [_t("cover.view", view=view_label),
+             *([_t("cover.level", level=level)] if level is not None else []),
              _t("cover.steps", n=len(plan.steps)),
              _t("cover.time", minutes=estimate_minutes(plan))]
     for fact in facts:
@@ -1168,8 +1170,8 @@ def _check_paper(paper: PaperSpec) -> float:
 def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label: str,
                      grid: bool = False,
                      final: tuple[Stroke, ...] = (), margin_mm: float | None = None,
-                     level_label: str | None = None, how: Sequence[str] | None = None
-                     ) -> tuple[Page, ...]:
+                     level_label: str | None = None, how: Sequence[str] | None = None,
+                     cover_level: bool = True) -> tuple[Page, ...]:
     """Every page of one workbook (one model, view and level), laid out in mm.
 
     Pages: cover, primer, step pages (1 step per page for novices, else 2), the finished
@@ -1189,6 +1191,8 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
             ``levels``): a study's packets name conditions neutrally, never "novice".
         how: the cover's "how to use" lines, replacing ``cover.how`` (a study packet's
             sheet is not the workbook's last page).
+        cover_level: the cover says the level ("Level: novice"); a study packet's does not
+            (its condition is in the headers, in neutral words).
 
     Returns:
         The pages in print order, page numbers in the footers, bookmarks attached.
@@ -1205,7 +1209,8 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
     view_label = plain_text(view_label)
     level = plain_text(level_label) if level_label is not None else _level_name(plan.level)
     right = _t("step.header", title=title, view=view_label, level=level)
-    pages: list[Page] = [_cover_page(f, title, plan, view_label, final, level, how)]
+    pages: list[Page] = [_cover_page(f, title, plan, view_label, final,
+                                     level if cover_level else None, how)]
     if plan.level != "basic":  # the control condition gets no How2Sketch constructions
         pages.append(_primer_page(f, title, right, primer_diagrams()))
     pages += _step_pages(f, title, plan, view_label, level)

@@ -433,7 +433,8 @@ def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[s
                     "study", "tutorial.how_basic" if vp.level == "basic" else "tutorial.how")]
                 pages = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name,
                                          final=final, grid=t.sheet.grid,
-                                         level_label=condition_name(vp.level), how=how)
+                                         level_label=condition_name(vp.level), how=how,
+                                         cover_level=False)
             sheet = pages[-1]
             m = t.paper.margin_mm
             w, h = sheet.width_mm, sheet.height_mm
