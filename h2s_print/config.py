@@ -288,8 +288,10 @@ class StudyConfig:
     first: str = ""
     seed: int = 0
     paper: PaperSpec = field(default_factory=PaperSpec)
-    font: FontSpec | None = None  #: covers and questionnaires (each tutorial keeps its own)
-    language: str = "en"  #: covers and questionnaires (each tutorial keeps its own)
+    #: the packets' font and wording: covers and questionnaires, and, when the study config
+    #: sets them, its tutorials too (else each tutorial keeps its config's)
+    font: FontSpec | None = None
+    language: str = "en"
 
 
 # --------------------------------------------------------------------------- reading
@@ -729,6 +731,10 @@ def _study(path: Path, data: Any) -> StudyConfig:
                     f"{rel!r} has no view {view_name!r} (it has "
                     f"{', '.join(v.name for v in tutorial.views)})")
         tutorial = replace(tutorial, views=views[:1], levels=conditions)
+        if root.has("language"):  # the study's wording is the whole packet's
+            tutorial = replace(tutorial, language=root.get("language", _language, "en"))
+        if font is not None:
+            tutorial = replace(tutorial, font=font)
         objects.append(StudyObject(name or tutorial.name, tutorial))
     if not objects:
         raise onode.fail("expected at least one tutorial config")

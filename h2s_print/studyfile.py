@@ -201,10 +201,10 @@ def _sheet(name: str, data: Any, folder: Path) -> SheetKey:
     lines_data = _get(data, "lines", dict, w)
     lines = []
     for part, polylines in lines_data.items():
-        if not isinstance(polylines, list):
-            raise _Bad(f"{w}.lines.{part}: expected a list of polylines")
-        lines.append((part, tuple(tuple(_numbers(p, 2, f"{w}.lines.{part}") for p in line)
-                                  if isinstance(line, list) else _bad(f"{w}.lines.{part}")
+        where = f"{w}.lines.{part}"
+        if not isinstance(polylines, list) or not all(isinstance(x, list) for x in polylines):
+            raise _Bad(f"{where}: expected a list of polylines (lists of points)")
+        lines.append((part, tuple(tuple(_numbers(p, 2, where) for p in line)
                                   for line in polylines)))
     marks = _get(data, "marks_mm", list, w)
     if len(marks) != 4:
@@ -221,10 +221,6 @@ def _sheet(name: str, data: Any, folder: Path) -> SheetKey:
         printed=printed, px_per_mm=float(_get(data, "px_per_mm", float, w)),
         lines=tuple(lines),
     )
-
-
-def _bad(where: str) -> Any:
-    raise _Bad(f"{where}: expected a list of points")
 
 
 def read_study(folder: str | Path) -> Study:

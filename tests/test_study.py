@@ -398,3 +398,17 @@ def test_rank_pages_then_strengths_follow_the_judgments(scored, tmp_path):
     (out / "judgments.csv").write_text("kept")
     assert main(["-q", "rank", str(study.folder)]) == 0
     assert (out / "judgments.csv").read_text() == "kept"
+
+
+def test_a_study_in_german_words_the_whole_packet(tmp_path):
+    """The study config's language: covers, questionnaires and the tutorials themselves."""
+    config = _write_config(tmp_path, STUDY.replace(
+        ', {config: "@/mixer.yaml", view: front-left}', "").replace(
+        "participants: 6", "participants: 2") + "language: de\n")
+    out = tmp_path / "out"
+    assert main(["-q", "study", str(config), "-o", str(out)]) == 0
+    words = " ".join(_pdf_pages(out / "trial" / "packets" / "P01.pdf"))
+    assert "Deine Zeichenmappe" in words  # the packet's cover
+    assert "Arbeitsheft Skizzieren" in words  # the tutorial's own cover
+    assert "Step " not in words and "Schritt " in words
+    assert read_study(out / "trial").language == "de"
