@@ -25,8 +25,7 @@ SPELL: dict[str, str] = {
 
 
 def _draws(text: str) -> bool:
-    have = fonts.coverage(fonts.current())
-    return all(ord(ch) in have for ch in text)
+    return fonts.missing(text) is None
 
 
 def spelled(ch: str) -> str:

@@ -1427,6 +1427,17 @@ def _corner_offset(v: Pt, frame: Box2) -> str:
               corner=_t(f"sheet.corners.{key}"))
 
 
+def registration_marks(paper_mm: tuple[float, float], margin_mm: float
+                       ) -> tuple[tuple[Pt, Pt, Pt, Pt], float]:
+    """The calibrated sheet's four registration marks: their centres, in the middle of the
+    margin band at each corner (bottom-left, bottom-right, top-right, top-left), and their
+    circles' radius, mm (the crosses reach half a millimetre beyond)."""
+    w, h = float(paper_mm[0]), float(paper_mm[1])
+    band = float(margin_mm) / 2
+    r = min(2.5, max(1.0, band - 1.0))
+    return ((band, band), (w - band, band), (w - band, h - band), (band, h - band)), r
+
+
 def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_label: str = "",
                   ground_mm: Sequence[Pt] | None = None, grid: bool = False,
                   drawing: Sequence[Sequence[Pt]] = ()) -> Page:
@@ -1468,8 +1479,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     items += _green_corners(frame, 15.0)
     band = m / 2  # centre line of the margin band
     # Registration marks: a circle and cross centred in the margin band at each corner.
-    r = min(2.5, max(1.0, band - 1.0))
-    for cx, cy in ((band, band), (w - band, band), (w - band, h - band), (band, h - band)):
+    centres, r = registration_marks((w, h), m)
+    for cx, cy in centres:
         items.append(Circle(cx, cy, r, "black", 0.2, None, "registration"))
         arm = r + 0.5  # at a 15 mm margin the cross ends 4.5 mm from the edge: printers print it
         items.append(Polyline(((cx - arm, cy), (cx + arm, cy)), "black", 0.2, (), False, "registration"))

@@ -251,9 +251,8 @@ def plan_tutorial(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     Raises:
         H2SError: naming the config file and field (``camera.yaml: views[1]: ...``).
     """
-    from .sequence import sequence_workbooks
-
     from . import templates
+    from .sequence import sequence_workbooks
 
     progress = progress or _quiet
     with templates.using(tutorial.language):
@@ -290,12 +289,9 @@ def steps_text(result: TutorialResult) -> str:
     from . import templates
     from .sequence import steps_text as view_text
 
-    blocks = []
-    for vp in result.views:
-        with templates.using(result.tutorial.language):
-            blocks.append(f"== {result.tutorial.title}: view {vp.name}, level {vp.level} ==\n"
-                          + view_text(vp))
-    return "\n".join(blocks)
+    with templates.using(result.tutorial.language):
+        return "\n".join(f"== {result.tutorial.title}: view {vp.name}, level {vp.level} ==\n"
+                         + view_text(vp) for vp in result.views)
 
 
 def _view_index(tutorial: TutorialConfig, index: int) -> int:
@@ -718,29 +714,6 @@ def _rank_files(study, folder: Path, judgments: Path | None) -> tuple[list[Path]
     return write_many_atomic(files), kept
 
 
-#: ``h2s score``'s folder inside a study folder, and its files.
-SCORES_DIR = "scores"
-DRAWINGS_HEADER = ("row", "participant", "object", "condition", "sheet", "file")
-
-
-def _read_csv(path: Path, header: Sequence[str]) -> list[dict[str, str]]:
-    """The rows of one of h2s's own CSV files, or [] when it does not exist yet."""
-    import csv
-
-    from .studyfile import StudyError
-
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        return []
-    except (OSError, UnicodeDecodeError) as exc:
-        raise StudyError(f"{path}: cannot be read ({exc})") from None
-    reader = csv.DictReader(text.splitlines())
-    if tuple(reader.fieldnames or ()) != tuple(header):
-        raise StudyError(f"{path}: expected the columns {','.join(header)}")
-    return list(reader)
-
-
 def _csv_bytes(header: Sequence[str], rows: Sequence[dict]) -> bytes:
     import csv
     import io
@@ -770,7 +743,9 @@ def score_study(scans: Sequence[Path], folder: Path) -> list[Path]:
     import numpy as np
 
     from .score import CSV_FIELDS, overlay, score_rows, score_scan
-    from .studyfile import StudyError, read_study
+    from .studyfile import (
+        DRAWINGS_CSV, DRAWINGS_HEADER, SCORES_DIR, StudyError, csv_rows, read_study, read_text,
+    )
 
     study = read_study(folder)
     out = Path(folder) / SCORES_DIR
@@ -782,14 +757,19 @@ def score_study(scans: Sequence[Path], folder: Path) -> list[Path]:
             raise StudyError(f"{r.source}: drawing {r.drawing.row} ({r.drawing.participant}, "
                              f"{r.drawing.object}) was scanned twice: also {seen[r.drawing.row]}")
         seen[r.drawing.row] = r.source
-    keep_scores = [row for row in _read_csv(out / "scores.csv", CSV_FIELDS)
-                   if not any(row["participant"] == r.drawing.participant
-                              and row["order"] == str(r.drawing.order) for r in results)]
-    keep_drawings = [row for row in _read_csv(out / "drawings.csv", DRAWINGS_HEADER)
-                     if int(row["row"]) not in seen]
+
+    def earlier(name: str, header: Sequence[str]) -> list[dict[str, str]]:
+        """The rows of an earlier run's file (none on the first run)."""
+        path = out / name
+        return ([cells for _, cells in csv_rows(read_text(path), str(path), header)]
+                if path.exists() else [])
+
+    rescored = {(r.drawing.participant, str(r.drawing.order)) for r in results}
+    scores: list[dict] = [row for row in earlier("scores.csv", CSV_FIELDS)
+                          if (row["participant"], row["order"]) not in rescored]
+    drawings: list[dict] = [row for row in earlier(DRAWINGS_CSV, DRAWINGS_HEADER)
+                            if int(row["row"]) not in seen]
     files: list[tuple[Path, bytes]] = []
-    drawings = list(keep_drawings)
-    scores = list(keep_scores)
     for r in results:
         d = r.drawing
         ok, png = cv2.imencode(".png", np.where(r.registered_drawing, 255, 0).astype(np.uint8))
@@ -807,6 +787,6 @@ def score_study(scans: Sequence[Path], folder: Path) -> list[Path]:
     scores.sort(key=lambda row: (order.get((row["participant"], str(row["order"])), -1),
                                  row["part"] != "*"))
     files.append((out / "scores.csv", _csv_bytes(CSV_FIELDS, scores)))
-    files.append((out / "drawings.csv", _csv_bytes(DRAWINGS_HEADER, drawings)))
+    files.append((out / DRAWINGS_CSV, _csv_bytes(DRAWINGS_HEADER, drawings)))
     check_writable(out)
     return write_many_atomic(files)

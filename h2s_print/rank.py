@@ -51,19 +51,22 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from . import templates
-from .studyfile import STUDY_FILE, SheetKey, Study, StudyError
+from .studyfile import (
+    DRAWINGS_CSV, DRAWINGS_HEADER, SCORES_DIR, STUDY_FILE, SheetKey, Study, StudyError, csv_rows,
+    read_text,
+)
 
 log = logging.getLogger(__name__)
 
 RANK_DIR = "rank"
-SCORED_CSV = "scores/drawings.csv"
+SCORED_CSV = f"{SCORES_DIR}/{DRAWINGS_CSV}"
 PAIRS_PDF = "pairs.pdf"
 PAIRS_CSV = "pairs.csv"
 JUDGMENTS_CSV = "judgments.csv"
 STRENGTHS_CSV = "strengths.csv"
 CONDITIONS_CSV = "conditions.csv"
 
-SCORED_HEADER = ("row", "participant", "object", "condition", "sheet", "file")
+SCORED_HEADER = DRAWINGS_HEADER
 PAIRS_HEADER = ("pair", "object", "a", "b")
 JUDGMENTS_HEADER = ("pair", "object", "a", "b", "winner")
 STRENGTHS_HEADER = ("object", "rank", "row", "participant", "condition", "strength",
@@ -228,47 +231,6 @@ class Ranking:
 # ----------------------------------------------------------------------------- CSV reading
 
 
-def _csv_rows(text: str, name: str, header: Sequence[str]) -> Iterable[tuple[int, dict[str, str]]]:
-    """``(line, {column: stripped text})`` of each non-blank data row of CSV ``text``.
-
-    Raises:
-        StudyError: ``name:line: header: ...`` or a row of the wrong length.
-    """
-    reader = csv.reader(io.StringIO(text))
-    want = ",".join(header)
-    seen_header = False
-    try:
-        for fields in reader:
-            line = reader.line_num
-            cells = [f.strip() for f in fields]
-            if not any(cells):
-                continue
-            if not seen_header:
-                if [c.lower() for c in cells] != list(header):
-                    raise StudyError(f"{name}:{line}: header: expected {want!r}, got "
-                                     f"{','.join(cells)!r}")
-                seen_header = True
-                continue
-            if len(cells) != len(header):
-                raise StudyError(f"{name}:{line}: expected {len(header)} fields ({want}), got "
-                                 f"{len(cells)}")
-            yield line, dict(zip(header, cells))
-    except csv.Error as exc:
-        raise StudyError(f"{name}:{reader.line_num}: not valid CSV ({exc})") from None
-    if not seen_header:
-        raise StudyError(f"{name}:1: header: expected {want!r}, the file is empty")
-
-
-def _read_text(path: Path) -> str:
-    try:
-        # utf-8-sig: a spreadsheet's "CSV UTF-8" starts with a byte-order mark
-        return Path(path).read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise StudyError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise StudyError(f"{path}: cannot be read ({exc})") from None
-
-
 def _int(value: str, name: str, line: int, field: str) -> int:
     try:
         return int(value)
@@ -288,7 +250,7 @@ def read_scored(study: Study, path: str | Path | None = None) -> tuple[ScoredDra
     path = Path(path) if path is not None else study.folder / SCORED_CSV
     name = str(path)
     out: dict[int, ScoredDrawing] = {}
-    for line, cells in _csv_rows(_read_text(path), name, SCORED_HEADER):
+    for line, cells in csv_rows(read_text(path), name, SCORED_HEADER):
         row = _int(cells["row"], name, line, "row")
         if not 0 <= row < len(study.drawings):
             raise StudyError(f"{name}:{line}: row: {row} is not a drawing of this study "
@@ -434,7 +396,7 @@ def parse_pairs(text: str, study: Study, name: str = PAIRS_CSV) -> tuple[Pair, .
             in the study, a drawing of another object, or a pair of one drawing with itself.
     """
     out: dict[str, Pair] = {}
-    for line, cells in _csv_rows(text, name, PAIRS_HEADER):
+    for line, cells in csv_rows(text, name, PAIRS_HEADER):
         pid = cells["pair"]
         if not pid:
             raise StudyError(f"{name}:{line}: pair: missing")
@@ -457,7 +419,7 @@ def parse_pairs(text: str, study: Study, name: str = PAIRS_CSV) -> tuple[Pair, .
 
 def read_pairs(path: str | Path, study: Study) -> tuple[Pair, ...]:
     """The pairs in the ``pairs.csv`` at ``path`` (see :func:`parse_pairs`)."""
-    return parse_pairs(_read_text(Path(path)), study, str(path))
+    return parse_pairs(read_text(Path(path)), study, str(path))
 
 
 # ----------------------------------------------------------------------------- 2. pages
@@ -658,7 +620,7 @@ def parse_judgments(text: str, pairs: Sequence[Pair], name: str = JUDGMENTS_CSV)
     by_id = {p.id: p for p in pairs}
     items: list[Judgment] = []
     blank = 0
-    for line, cells in _csv_rows(text, name, JUDGMENTS_HEADER):
+    for line, cells in csv_rows(text, name, JUDGMENTS_HEADER):
         p = by_id.get(cells["pair"])
         if p is None:
             raise StudyError(f"{name}:{line}: pair: {cells['pair']!r} is not one of the "
@@ -685,7 +647,7 @@ def parse_judgments(text: str, pairs: Sequence[Pair], name: str = JUDGMENTS_CSV)
 def read_judgments(path: str | Path, pairs: Sequence[Pair]) -> Judgments:
     """The judgments file at ``path`` (UTF-8, with or without a byte-order mark), checked
     against ``pairs`` (see :func:`parse_judgments`)."""
-    return parse_judgments(_read_text(Path(path)), pairs, str(path))
+    return parse_judgments(read_text(Path(path)), pairs, str(path))
 
 
 # ----------------------------------------------------------------------------- 4. fit

@@ -62,7 +62,7 @@ from .config import PaperSpec, StudyConfig
 from .errors import ConfigError
 from .layout import (
     Bookmark, Page, Polyline, Rect, Text, _Frame, _header, _paragraph,
-    _with_footers, fit_line, plain_text,
+    _with_footers, fit_line, plain_text, registration_marks,
 )
 from .studyfile import Box, Drawing, SheetKey, Study, code_text, study_json
 from .types import Stroke
@@ -178,12 +178,9 @@ def code_box(paper_mm: tuple[float, float], margin_mm: float) -> Box:
     registration mark, from :data:`PRINT_INSET_MM` above the paper's edge to 1.5 mm below the
     frame (9 mm at the study's 15 mm margin: version-1 modules of 0.43 mm, which a 200 dpi
     scan or a phone photo of the page resolves)."""
-    w = float(paper_mm[0])
-    m = float(margin_mm)
-    band = m / 2
-    r = min(2.5, max(1.0, band - 1.0))  # the registration mark's radius (layout.lay_out_sheet)
-    side = m - 1.5 - PRINT_INSET_MM
-    x1 = w - band - r - 3.0
+    marks, r = registration_marks(paper_mm, margin_mm)
+    side = float(margin_mm) - 1.5 - PRINT_INSET_MM
+    x1 = marks[1][0] - r - 3.0  # left of the bottom-right mark
     return (x1 - side, PRINT_INSET_MM, x1, PRINT_INSET_MM + side)
 
 
@@ -438,13 +435,12 @@ def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[s
             sheet = pages[-1]
             m = t.paper.margin_mm
             w, h = sheet.width_mm, sheet.height_mm
-            band = m / 2
+            marks, r = registration_marks((w, h), m)
             name = f"{obj.name}-{vp.level}"
             key = SheetKey(
                 sheet=name, object=obj.name, view=vp.name, condition=vp.level,
-                paper_mm=(w, h), frame_mm=(m, m, w - m, h - m),
-                marks_mm=((band, band), (w - band, band), (w - band, h - band), (band, h - band)),
-                mark_radius_mm=min(2.5, max(1.0, band - 1.0)),
+                paper_mm=(w, h), frame_mm=(m, m, w - m, h - m), marks_mm=marks,
+                mark_radius_mm=r,
                 code_box_mm=code_box((w, h), m), printed=folder / "sheets" / f"{name}.png",
                 px_per_mm=PX_PER_MM, lines=_sheet_lines(final, parts))
             out[(obj.name, vp.level)] = Workbook(obj.name, t.title, vp.name, vp.level, pages, key)

@@ -32,8 +32,11 @@ Layout of ``study.json`` (``schema: h2s-study/1``)::
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 import re
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -42,6 +45,10 @@ from .errors import H2SError
 
 SCHEMA = "h2s-study/1"
 STUDY_FILE = "study.json"
+#: ``h2s score``'s folder inside a study folder, its list of registered drawings and columns.
+SCORES_DIR = "scores"
+DRAWINGS_CSV = "drawings.csv"
+DRAWINGS_HEADER = ("row", "participant", "object", "condition", "sheet", "file")
 CODE_PREFIX = "H2S"
 DESIGNS = ("fixed-first", "latin-square")
 
@@ -162,6 +169,52 @@ def study_json(study: Study) -> dict[str, Any]:
 
 
 # ----------------------------------------------------------------------------- reading
+
+
+def csv_rows(text: str, name: str, header: Sequence[str]) -> Iterable[tuple[int, dict[str, str]]]:
+    """``(line, {column: stripped text})`` of each non-blank data row of CSV ``text``.
+
+    Raises:
+        StudyError: ``name:line: header: ...`` or a row of the wrong length.
+    """
+    reader = csv.reader(io.StringIO(text))
+    want = ",".join(header)
+    seen_header = False
+    try:
+        for fields in reader:
+            line = reader.line_num
+            cells = [f.strip() for f in fields]
+            if not any(cells):
+                continue
+            if not seen_header:
+                if [c.lower() for c in cells] != list(header):
+                    raise StudyError(f"{name}:{line}: header: expected {want!r}, got "
+                                     f"{','.join(cells)!r}")
+                seen_header = True
+                continue
+            if len(cells) != len(header):
+                raise StudyError(f"{name}:{line}: expected {len(header)} fields ({want}), got "
+                                 f"{len(cells)}")
+            yield line, dict(zip(header, cells))
+    except csv.Error as exc:
+        raise StudyError(f"{name}:{reader.line_num}: not valid CSV ({exc})") from None
+    if not seen_header:
+        raise StudyError(f"{name}:1: header: expected {want!r}, the file is empty")
+
+
+def read_text(path: Path) -> str:
+    """A CSV file's text (a spreadsheet's byte-order mark dropped).
+
+    Raises:
+        StudyError: missing or unreadable, naming it.
+    """
+    try:
+        # utf-8-sig: a spreadsheet's "CSV UTF-8" starts with a byte-order mark
+        return Path(path).read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise StudyError(f"{path}: no such file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise StudyError(f"{path}: cannot be read ({exc})") from None
 
 
 class _Bad(Exception):

@@ -68,24 +68,32 @@ FIELDS: dict[str, frozenset[str]] = {
 
 def _validate(name: str, path: Path, node: Any, key: str = "") -> None:
     """Every text in ``node`` is a well-formed template whose placeholders are known."""
-    if isinstance(node, dict):
-        for k, v in node.items():
-            _validate(name, path, v, f"{key}.{k}" if key else str(k))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            _validate(name, path, v, f"{key}[{i}]")
-    elif isinstance(node, str):
+    known = FIELDS.get(name)
+    for where, node_text in _texts(node, key):
         try:
-            parts = list(string.Formatter().parse(node))
+            parts = list(string.Formatter().parse(node_text))
         except ValueError as exc:
-            raise H2SError(f"{path}: {key}: not a valid template ({exc}): {node!r}") from None
-        fields = [f for _, f, _, _ in parts if f is not None]
-        known = FIELDS.get(name)
-        for f in fields:
+            raise H2SError(f"{path}: {where}: not a valid template ({exc}): "
+                           f"{node_text!r}") from None
+        for _, f, _, _ in parts:
+            if f is None:
+                continue
             base = f.split(".")[0].split("[")[0]
             if not base or (known is not None and base not in known):
-                raise H2SError(f"{path}: {key}: unknown placeholder {{{f}}} (known: "
+                raise H2SError(f"{path}: {where}: unknown placeholder {{{f}}} (known: "
                                f"{', '.join(sorted(known or ()))})")
+
+
+def _texts(node: Any, key: str = "") -> Iterator[tuple[str, str]]:
+    """(key path, text) of every template in ``node``: ``headline.first``, ``cover.how[2]``."""
+    if isinstance(node, dict):
+        for k, v in node.items():
+            yield from _texts(v, f"{key}.{k}" if key else str(k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            yield from _texts(v, f"{key}[{i}]")
+    elif isinstance(node, str):
+        yield key, node
 
 
 #: CLDR plural categories: a mapping with only these keys is a plural (:func:`plural`).
@@ -215,18 +223,6 @@ def plural(name: str, key: str, n: int, **fields: Any) -> str:
     return template.format(n=n, **fields)
 
 
-def _literals(node: Any, key: str = "") -> Iterator[tuple[str, str]]:
-    """(key path, literal text) of every template in ``node``."""
-    if isinstance(node, dict):
-        for k, v in node.items():
-            yield from _literals(v, f"{key}.{k}" if key else str(k))
-    elif isinstance(node, list):
-        for i, v in enumerate(node):
-            yield from _literals(v, f"{key}[{i}]")
-    elif isinstance(node, str):
-        yield key, "".join(lit for lit, _, _, _ in string.Formatter().parse(node))
-
-
 def check_font(spec: fonts.FontSpec | None = None) -> None:
     """Every template's own text (placeholders aside) is printable in ``spec`` (default: the
     default page font), checked before any work so a translation in a script the font lacks
@@ -243,7 +239,8 @@ def _check_font(spec: fonts.FontSpec | None, language: str) -> None:
     with fonts.using(spec) as font:
         for name in FIELDS:
             path = _path(name, language)
-            for key, literal in _literals(load(name, language)):
+            for key, template in _texts(load(name, language)):
+                literal = "".join(lit for lit, _, _, _ in string.Formatter().parse(template))
                 ch = unprintable(literal)
                 if ch is not None:
                     raise H2SError(f"{path}: {key}: character {describe(ch)} cannot be printed "

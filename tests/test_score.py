@@ -38,7 +38,7 @@ def sheet(tmp_path_factory):
     """(key, stamped page rendered at RENDER_DPI as greyscale, study) for one sheet: the
     camera's front-left view, novice."""
     from h2s_print.config import load_tutorial
-    from h2s_print.layout import lay_out_sheet
+    from h2s_print.layout import lay_out_sheet, registration_marks
     from h2s_print.pipeline import plan_tutorial
     from h2s_print.render import render_png
     from h2s_print.study import code_box, stamped
@@ -57,12 +57,11 @@ def sheet(tmp_path_factory):
     for stroke in final:
         lines.setdefault(stroke.part, []).append(tuple((float(x), float(y))
                                                        for x, y in stroke.points_mm))
-    band = MARGIN_MM / 2
+    marks, r = registration_marks((w, h), MARGIN_MM)
     key = SheetKey(
         sheet="camera-novice", object="camera", view=vp.name, condition="novice",
         paper_mm=(w, h), frame_mm=(MARGIN_MM, MARGIN_MM, w - MARGIN_MM, h - MARGIN_MM),
-        marks_mm=((band, band), (w - band, band), (w - band, h - band), (band, h - band)),
-        mark_radius_mm=min(2.5, max(1.0, band - 1.0)), code_box_mm=box, printed=printed,
+        marks_mm=marks, mark_radius_mm=r, code_box_mm=box, printed=printed,
         px_per_mm=KEY_PX_MM, lines=tuple((p, tuple(v)) for p, v in lines.items()))
     drawings = tuple(Drawing(i, f"P{i + 1}", 1, "camera", "novice", key.sheet,
                              code_text(STUDY_ID, i)) for i in range(3))
