@@ -410,3 +410,200 @@ def test_own_contours_are_each_part_traced_alone_and_its_test_is_occlusion_by_it
     pts = np.random.default_rng(3).uniform(-4, 4, (200, 3))
     for p, test in zip(parts, tests):
         assert np.array_equal(test(pts), occlusion_test([p], cam)(pts))
+
+
+# ----------------------------------------------------------------------------- the grid engine's fast paths
+
+
+def _dense_scene():
+    """A finely cut cylinder (long thin side strips, cap fans) in front of a subdivided box and a
+    sphere behind both, and a part of two boxes, one hiding some of the other (a part that
+    hides its own lines): the cases the grid engine's pre-tests and the reuse of verdicts serve.
+    For the camera :func:`_dense_camera`."""
+    box = trimesh.creation.box(extents=(3.0, 1.0, 2.0))
+    box = trimesh.Trimesh(*trimesh.remesh.subdivide_to_size(box.vertices, box.faces, 0.25), process=False)
+    cyl = trimesh.creation.cylinder(radius=0.5, height=3.0, sections=400)
+    cyl.apply_transform(trimesh.transformations.rotation_matrix(np.pi / 2, [0, 1, 0]))
+    near, far = trimesh.creation.box(extents=(0.5, 0.5, 0.5)), trimesh.creation.box(extents=(0.8, 0.8, 0.8))
+    near.apply_translation((2.47, -0.8, 0.45))
+    far.apply_translation((2.3, 0.3, 0.0))
+    return [
+        make_part("slab", box, (0.0, 1.5, 0.0)),
+        make_part("drum", cyl, (0.3, -0.2, 0.4)),
+        make_part("ball", trimesh.creation.icosphere(subdivisions=3, radius=0.7), (-0.8, 3.0, 0.9)),
+        make_part("bracket", trimesh.util.concatenate([near, far])),
+    ]
+
+
+def _dense_camera() -> Camera:
+    return look_at((4.0, -7.0, 3.0), (0.0, 1.0, 0.3), lens_mm=40)
+
+
+def test_hits_in_front_is_covers_in_front_on_every_pair():
+    """The grid engine's per-pair test (each test only on the pairs that passed the ones
+    before, columns read one at a time) answers exactly as the straightforward test of a whole
+    (k, 12) row per pair, on pairs inside, outside and on the edges of triangles."""
+    from h2s_print import contours as C
+
+    parts = _dense_scene()
+    cam = _dense_camera()
+    coef = np.concatenate([C._screen_triangles(C._Mesh.of(p), cam)[0] for p in parts])
+    rng = np.random.default_rng(5)
+    tri = rng.integers(0, len(coef), 60_000)
+    # sample points near the chosen triangles: corners, edge points and barycentric mixes
+    # (some outside: weights may be negative), at depths in front of and behind them
+    xs = np.concatenate([C._screen_triangles(C._Mesh.of(p), cam)[1] for p in parts])
+    ys = np.concatenate([C._screen_triangles(C._Mesh.of(p), cam)[2] for p in parts])
+    wts = rng.uniform(-0.3, 1.0, (len(tri), 3))
+    wts[::4, 2] = 0.0  # on an edge
+    wts[1::8] = np.eye(3)[rng.integers(0, 3, len(wts[1::8]))]  # on a corner
+    wts /= wts.sum(axis=1, keepdims=True)
+    x = np.einsum("ij,ij->i", wts, xs[tri])
+    y = np.einsum("ij,ij->i", wts, ys[tri])
+    uv = coef[tri, 9] * x + coef[tri, 10] * y + coef[tri, 11]
+    w = rng.uniform(0.9, 1.1, len(tri)) / np.where(uv > 0, uv, 1.0)
+    expected = np.flatnonzero(C._covers_in_front(coef[tri], x, y, w))
+    got = C._hits_in_front(np.ascontiguousarray(coef.T), tri, x, y, w)
+    assert 1000 < len(expected) < len(tri) - 1000  # both answers are common
+    assert np.array_equal(got, expected)
+
+
+def _engine(meshes, cam, cs=None):
+    from h2s_print import contours as C
+
+    return C._make_engine(cs or ContourSettings(), cam, meshes)
+
+
+def _sheet_samples(parts, cam, n, seed):
+    """Points on the parts' triangles (so on the sheet and often hidden), model units."""
+    rng = np.random.default_rng(seed)
+    pts = []
+    for p in parts:
+        tris = np.asarray(p.vertices)[np.asarray(p.faces)]
+        pick = tris[rng.integers(0, len(tris), n)]
+        wts = rng.dirichlet((1.0, 1.0, 1.0), n)
+        pts.append(np.einsum("ij,ijk->ik", wts, pick))
+    return np.concatenate(pts)
+
+
+def test_grid_engine_equals_testing_every_triangle():
+    """The grid engine's answer is the straightforward one: a point is hidden when some occluder
+    triangle covers it from the front (every triangle tested, no grid, no pre-tests)."""
+    from h2s_print import contours as C
+
+    parts = _dense_scene()
+    cam = _dense_camera()
+    meshes = [C._Mesh.of(p) for p in parts]
+    engine = _engine(meshes, cam)
+    pts = _sheet_samples(parts, cam, 700, 11)
+    coef = np.concatenate([C._screen_triangles(m, cam)[0] for m in meshes])
+    q = cam.project(pts)
+    w = cam.depth(pts) * (1.0 - ContourSettings().depth_bias)
+    hidden = np.array([C._covers_in_front(coef, np.full(len(coef), qx), np.full(len(coef), qy),
+                                          np.full(len(coef), wq)).any()
+                       for (qx, qy), wq in zip(q, w)])
+    assert 300 < hidden.sum() < len(pts) - 300
+    assert np.array_equal(engine.visible(pts), ~hidden)
+    # points said to be known visible are not tested: the others keep their answers
+    known = np.zeros(len(pts), dtype=bool)
+    known[::3] = True
+    got = engine.visible(pts, known)
+    assert got[known].all() and np.array_equal(got[~known], ~hidden[~known])
+
+
+def test_certainly_visible_with_every_part_is_visible_with_each_part_alone():
+    """_GridEngine.certain: where the engine of all parts sees a point, and the point lies
+    clear of its cell's sides, each part's own engine (another cell size) sees it too; points on
+    the cells' sides are never certain."""
+    from h2s_print import contours as C
+
+    parts = _dense_scene()
+    cam = _dense_camera()
+    meshes = [C._Mesh.of(p) for p in parts]
+    full = _engine(meshes, cam)
+    pts = _sheet_samples(parts, cam, 3000, 12)
+    sure = full.visible(pts) & full.certain(pts)
+    assert sure.sum() > 1000
+    for m in meshes:
+        own = _engine([m], cam)
+        assert own.s != full.s  # the argument must not need one grid
+        assert own.visible(pts)[sure].all()
+    # a point moved onto a vertical side of its cell is not certain
+    q = cam.project(pts[:50])
+    side = full.x0 + np.floor((q[:, 0] - full.x0) / full.s) * full.s
+    on_side = np.zeros((50, 2))
+    on_side[:, 0], on_side[:, 1] = side, q[:, 1]
+    # back to model points with those sheet positions at the same depth
+    inv = np.linalg.inv(np.asarray(cam.projection_mm)[:, :3])
+    d = cam.depth(pts[:50])
+    h = np.stack([on_side[:, 0] * d, on_side[:, 1] * d, d], axis=1) - np.asarray(cam.projection_mm)[:, 3]
+    moved = h @ inv.T
+    assert np.allclose(cam.project(moved)[:, 0], side, atol=1e-9, rtol=0)
+    assert not full.certain(moved).any()
+
+
+def test_own_contours_after_the_finished_drawing_are_the_lines_of_testing_every_sample():
+    """own_contours skips the samples the finished drawing found visible for certain (the
+    verdicts remembered on each part's mesh): the same lines as own_contours on fresh copies of
+    the parts (nothing remembered), and samples were indeed skipped."""
+    from h2s_print import contours as C
+    from h2s_print.contours import own_contours
+
+    parts = _dense_scene()
+    cam = _dense_camera()
+    copies = [Part(p.name, p.vertices, p.faces) for p in parts]
+    skipped = []
+    real = C._GridEngine.visible
+
+    def counting(self, points, known=None):
+        skipped.append(0 if known is None else int(np.count_nonzero(known)))
+        return real(self, points, known)
+
+    final_contours(parts, cam)
+    C._GridEngine.visible = counting
+    try:
+        sets, tests = own_contours(parts, cam)
+    finally:
+        C._GridEngine.visible = real
+    assert sum(skipped) > 1000
+    ref, ref_tests = own_contours(copies, cam)
+    assert sets == ref
+    (bracket,) = trace_contours([parts[3]], cam, occluders=[])  # its lines, nothing hidden
+    length = [sum(LineString(ln).length for ln in c.polylines_mm) for c in (ref[3], bracket)]
+    assert length[0] < length[1] - 1.0  # mm: it hides some of its own lines
+    pts = _sheet_samples(parts, cam, 200, 13)
+    for a, b in zip(tests, ref_tests):
+        assert np.array_equal(a(pts), b(pts))
+
+
+def test_verdicts_remembered_with_fewer_occluders_are_not_reused():
+    """A part traced alone first, then with a part in front of it: the second trace must not
+    take the first one's visible samples (they may be hidden now); it equals a fresh trace."""
+    parts = _dense_scene()
+    cam = _dense_camera()
+    trace_contours([parts[0]], cam)
+    got = trace_contours(parts, cam)
+    fresh = trace_contours([Part(p.name, p.vertices, p.faces) for p in parts], cam)
+    assert got == fresh
+    assert len(segments(got[0])) < len(segments(trace_contours([parts[0]], cam)[0]))
+
+
+def test_edge_table_is_that_of_the_sorted_unique_rows():
+    """_Mesh's edge table (from one integer per edge) equals the one np.unique(..., axis=0) of
+    the sorted half-edges gives, on a mesh with open, shared and non-manifold edges."""
+    from h2s_print import contours as C
+
+    mesh = trimesh.creation.cylinder(radius=1.0, height=2.0, sections=30)
+    faces = np.asarray(mesh.faces)
+    faces = np.concatenate([faces[5:], faces[5:6]])  # open (a few faces gone) and one face twice
+    part = Part("p", readonly(mesh.vertices, float), readonly(faces, np.int64))
+    m = C._Mesh(part)
+    f = m.f
+    he = np.stack([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]], axis=1).reshape(-1, 2)
+    uniq, inv, counts = np.unique(np.sort(he, axis=1), axis=0, return_inverse=True,
+                                  return_counts=True)
+    assert np.array_equal(m.edges, uniq) and m.edges.dtype == np.int64
+    assert np.array_equal(m.boundary, counts == 1) and m.boundary.any() and (counts > 2).any()
+    order = np.argsort(inv.reshape(-1), kind="stable")
+    start = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    assert np.array_equal(m.ef[:, 0], order[start] // 3)
