@@ -1277,8 +1277,10 @@ class _Context:
                                     line=Pts((con.result.start, con.result.end))))
         # an axis with no anchor at all: say what it lines up with, as for a part by eye
         closing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
-        closing.append(spec("place_by_eye", shape=shape, dims=dims) if loose
-                       else spec("place", shape=shape))
+        # no line constructed (faces and planes of drawn parts only): no "these lines" to name
+        there = "" if built else "_there"
+        closing.append(spec("place_by_eye" + there, shape=shape, dims=dims) if loose
+                       else spec("place" + there, shape=shape))
         closing += repeat
         head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
         groups = self.pack(list(units.values()), closing, head, step)

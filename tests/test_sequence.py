@@ -1144,3 +1144,26 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     cand = plan.chosen()["shutter_button"]
     said = ctx.free_positions("shutter_button", list(plan.chosen()), cand.unguided_axes)
     assert said and all(pos.axis in cand.unguided_axes for _, pos in said)
+
+
+def test_a_part_placed_without_lines_is_not_drawn_on_these_lines(examples):
+    """A primitive step says "on these lines" only when it has guides; a part set on faces of
+    drawn parts alone (no line constructed) is drawn "there" (the roller's frame riser)."""
+    from h2s_print.templates import text
+
+    lines = text("steps", "substep.place", shape="@").split("@")[1].rstrip(".")  # " on these lines"
+    there = text("steps", "substep.place_there", shape="@").split("@")[1].rstrip(".")  # " there"
+    said_there = 0
+    for name, (_, _, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level not in ("novice", "apprentice"):
+                continue
+            for step in vp.steps:
+                if step.kind != "primitive":
+                    continue
+                if lines in step.text:
+                    assert step.guides, (name, view, level, step.index, step.text)
+                if there + "." in step.text or there + ";" in step.text:
+                    assert not step.guides, (name, view, level, step.index, step.text)
+                    said_there += 1
+    assert said_there  # the roller's frame riser, every view
