@@ -26,6 +26,11 @@ Letters (decisions where the issue is silent)
   share a letter, and each new point takes the first letter free over its stretch (each
   picture shows only its own step's letters, so pages start again near ``A`` once earlier
   points are done with).
+* **A letter rests one step** (:data:`REST`) after its point's last step before it names
+  another point: the page just turned never used a letter of this page for something else.
+  A reader who found the mixer's column corners H and J on one page read H and J as its
+  other corners on the next, and the old centre M stayed on the picture while a new M was
+  named (read-through of 2026-11-24).
 * Two 3D points within ``tol`` are one point.
 * Sub-steps that do the same thing twice on one face (the diagonals of both half faces for
   the ¼ and ¾ lines, the two connecting lines of ⅓ and ⅔, both edges of a face) are said
@@ -46,6 +51,8 @@ from .types import Vec3
 
 #: Letters for points, in order (no I and O).
 ALPHABET = tuple("ABCDEFGHJKLMNPQRSTUVWXYZ")
+#: Steps a letter rests after its point's last step before it names another point.
+REST = 1
 
 
 @dataclass(frozen=True, slots=True)
@@ -132,7 +139,9 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
     A point *lives* from the first step that names it to the last; two points whose lives
     overlap get different letters, and a point keeps its letter all its life (module docstring,
     *Letters*).  Letters are given greedily in order of first mention, each point the first
-    letter no living point holds: for intervals this uses the fewest letters possible.
+    letter that no living point holds and that named no other point in the :data:`REST`
+    steps before (when every plain letter is living or resting, the first one not living:
+    ``A'`` is harder to read than a letter the page before used).
 
     Args:
         steps: each step's sub-steps, in order.
@@ -174,7 +183,11 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         for i in order:
             if i in letter:
                 continue
-            busy = {x for end, x in held if end >= k}
+            # busy: held by a living point, or resting (it named another point in the
+            # previous REST steps, whose page the reader has just turned)
+            busy = {x for end, x in held if end >= k - REST}
+            if busy.issuperset(ALPHABET):  # no plain letter rests enough: a resting one
+                busy = {x for end, x in held if end >= k}  # before a primed one
             n = 0
             while _letter(n) in busy:
                 n += 1

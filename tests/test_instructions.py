@@ -99,7 +99,7 @@ def test_twins_are_said_once_in_the_plural():
 # ----------------------------------------------------------------------------- letters
 
 
-def test_a_point_keeps_its_letter_while_it_lives_and_letters_skip_i_and_o():
+def test_a_point_keeps_its_letter_while_it_lives_letters_rest_a_step_and_skip_i_and_o():
     p = [(float(i), 0.0, 0.0) for i in range(30)]
     steps = [
         [spec("a", line=Pts((p[0], p[1])))],                         # A B
@@ -110,15 +110,26 @@ def test_a_point_keeps_its_letter_while_it_lives_and_letters_skip_i_and_o():
     out = letter_steps(steps, 1e-9, _render)
     assert out[0][0] == ["a:line=AB"]
     assert out[1][0] == ["b:line=CD"]
-    assert out[2][0] == ["c:line=AB", "d:x=C"]  # C is free again: the point named C is done
-    assert out[3][0] == ["e:line=AB"]
-    assert [n for n, _ in out[2][1]] == ["A", "B", "C"]
+    # C and D are done with, but they named other points on the page just turned: they rest
+    assert out[2][0] == ["c:line=AB", "d:x=E"]
+    assert out[3][0] == ["e:line=CD"]  # A, B and E rest now; C and D are free again
+    assert [n for n, _ in out[2][1]] == ["A", "B", "E"]
     assert "I" not in ALPHABET and "O" not in ALPHABET
     many = letter_steps([[spec("f", lines=Many(tuple(Pts((p[i],)) for i in range(26))))]],
                         1e-9, _render, " ".join)
     letters = many[0][0][0].split("=")[1].split()
     assert letters[:3] == ["A", "B", "C"] and letters[24:] == ["A'", "B'"]
     assert len(set(letters)) == 26
+
+
+def test_a_resting_letter_is_used_again_before_a_primed_one():
+    p = [(float(i), 0.0, 0.0) for i in range(60)]
+    first = [spec("f", lines=Many(tuple(Pts((p[i],)) for i in range(20))))]   # A .. V
+    second = [spec("g", lines=Many(tuple(Pts((p[i],)) for i in range(20, 30))))]
+    out = letter_steps([first, second], 1e-9, _render, " ".join)
+    letters = out[1][0][0].split("=")[1].split()
+    # W X Y Z are neither living nor resting; then the 20 resting ones, from A, never A'
+    assert letters[:4] == ["W", "X", "Y", "Z"] and letters[4:] == list("ABCDEF")
 
 
 def test_points_within_tolerance_share_a_letter():
