@@ -1411,11 +1411,15 @@ class _Context:
         return out
 
     def loose_axes(self, cand: Any) -> list[int]:
-        """Axes of ``cand`` with fewer than two anchored ends (judged by eye), not flat."""
+        """Axes of ``cand`` with fewer than two anchored ends (judged by eye), not flat: a
+        plane is drawn as a rectangle in its mid-plane (:func:`_solid`), so its normal has no
+        size to judge even when its box keeps the panel's thickness."""
         biggest = max(_extent(cand.box, a) for a in range(3))
+        prim = self.plan.primitive(cand.part)
+        normal = prim.axis if prim.type == "plane" else None
         return [a for a in range(3)
                 if sum(1 for an in cand.anchors if an.axis == a) < 2
-                and _extent(cand.box, a) > 1e-9 * biggest]
+                and _extent(cand.box, a) > 1e-9 * biggest and a != normal]
 
     def solids(self, basic: bool) -> list[tuple[str, Solid]]:
         """The drawn primitives as solids (:mod:`h2s_print.occlude`), by part: the guided

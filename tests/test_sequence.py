@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import logging
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -1167,3 +1168,29 @@ def test_a_part_placed_without_lines_is_not_drawn_on_these_lines(examples):
                     assert not step.guides, (name, view, level, step.index, step.text)
                     said_there += 1
     assert said_there  # the roller's frame riser, every view
+
+
+def test_a_flat_rectangle_is_never_asked_for_its_thickness(shared_models):
+    """A plane is drawn as a rectangle in its mid-plane: its normal's size is never "by eye",
+    even when its box keeps the panel's thickness (the desk Fredrik's panels: "its width,
+    depth and height by eye" for a flat rectangle)."""
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+    from h2s_print.templates import lookup
+
+    t = load_tutorial(Path(__file__).parents[1] / "benchmarks" / "configs" / "desk_fredrik.yaml")
+    plan = build_plan(t.model, t.solver)
+    planes = {p.part: p.axis for p in plan.primitives if p.type == "plane"}
+    assert planes
+    dims = lookup("steps", "dims")
+    checked = 0
+    for vp in seq.sequence_views(plan, t.views[0], ("novice",), t.paper, t.sequence):
+        for step in vp.steps:
+            if step.kind != "primitive" or step.part not in planes:
+                continue
+            eye = [s for s in step.substeps if "by eye" in s and "flat rectangle" in s]
+            for sentence in eye:
+                assert dims[planes[step.part]] not in sentence, sentence
+                checked += 1
+    assert checked
