@@ -149,7 +149,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field, replace
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -176,6 +176,15 @@ log = logging.getLogger(__name__)
 MAX_STEP_WORDS = 70
 #: Positions said for a part placed by eye, at most (:meth:`_Context.free_positions`).
 FREE_POSITIONS = 3
+#: Sizes a part judged by eye is compared with (:meth:`_Context.size_specs`): the ratio of its
+#: extent to a drawn part's along the same axis, named by the key of ``size_amounts``.
+SIZE_RATIOS = ((0.25, "quarter"), (1 / 3, "third"), (0.5, "half"), (2 / 3, "two-thirds"),
+               (0.75, "three-quarters"), (1.0, "same"), (1.5, "one-and-half"), (2.0, "twice"),
+               (3.0, "three-times"), (4.0, "four-times"))
+#: A size is said when the ratio is within this fraction of an easy one ...
+SIZE_TOLERANCE = 0.12
+#: ... in at most this many sentences a step.
+SIZE_SENTENCES = 2
 #: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
 _CITES = ("reuse", "edge", "edge_two")
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
@@ -1011,6 +1020,59 @@ class _Context:
                                                               else "hi") for a in ends])))
         return out
 
+    def size_ratios(self, part: str, axes: Sequence[int], refs: Sequence[str]
+                    ) -> list[tuple[str, str, list[int]]]:
+        """What a part's sizes judged by eye compare with, as ``(drawn part, ratio name,
+        axes)``: per axis of ``axes``, the first part of ``refs`` whose extent along the same
+        axis makes an easy ratio with the part's own (:data:`SIZE_RATIOS`, within
+        :data:`SIZE_TOLERANCE`); axes with the same part and ratio together; the biggest axes
+        first, at most :data:`SIZE_SENTENCES` entries.  A drawing teacher gives the proportion
+        to look for ("about as tall as the column is wide") rather than "by eye" alone."""
+        box = self.chosen[part].box
+        found: dict[tuple[str, str], list[int]] = {}
+        for axis in sorted(axes, key=lambda a: (-_extent(box, a), a)):
+            mine = _extent(box, axis)
+            for ref in refs:
+                rbox = self.chosen[ref].box
+                theirs = _extent(rbox, axis)
+                if mine <= 0 or theirs <= 1e-9 * max(_extent(rbox, a) for a in range(3)):
+                    continue
+                value, name = min(SIZE_RATIOS, key=lambda vn: abs(mine / theirs / vn[0] - 1.0))
+                if abs(mine / theirs / value - 1.0) <= SIZE_TOLERANCE:
+                    found.setdefault((ref, name), []).append(axis)
+                    break
+        return [(ref, name, sorted(group))
+                for (ref, name), group in list(found.items())[:SIZE_SENTENCES]]
+
+    def size_specs(self, part: str, axes: Sequence[int], refs: Sequence[str]
+                   ) -> list[tuple[Spec, list[int]]]:
+        """:meth:`size_ratios` said ("Make its height about a third of the base's."), each
+        with the axes it sizes."""
+        amounts = _raw("size_amounts")
+        return [(spec("size", dims=_join([self.words.dim(a) for a in group]),
+                      amount=amounts[name], parent=self.say(ref)), group)
+                for ref, name, group in self.size_ratios(part, axes, refs)]
+
+    def step_words(self, specs: Sequence[Spec], headline: str) -> int:
+        """Words of a step's text with ``headline`` and these sub-steps, lettered and
+        numbered as the page says them."""
+        (subs, _), = letter_steps([self.lettered(specs)], self.tol, _substep, _join)
+        text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
+                                      for k, x in enumerate(subs)])
+        return len(text.split())
+
+    def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
+              sizes: list[tuple[Spec, list[int]]]) -> list[Spec]:
+        """``build(sizes[:n])``, the sub-steps with the most size sentences (biggest axes
+        first) that keep the step within :data:`MAX_STEP_WORDS`: sizes help the eye, but
+        never make a step longer than the limit or split it (they are not counted when
+        constructions are packed into steps)."""
+        for n in range(len(sizes), 0, -1):
+            specs = build(sizes[:n])
+            if self.step_words(specs, headline) <= MAX_STEP_WORDS:
+                return specs
+        return build([])
+
     def parents_of(self, part: str) -> set[str]:
         """The parts ``part``'s selected candidate hangs off."""
         return {self.by_id[pid].part for pid in self.chosen[part].parents}
@@ -1163,10 +1225,19 @@ class _Context:
             near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
             near.sort(key=lambda q: -part_size(self.chosen[q].box))
             where = self.free_specs(self.free_positions(part, drawn))
-            subs = self.lettered([spec("free_near", other=self.say(near[0])) if near
-                                  else spec("free"), *where, *repeat])
-            return [_Draft(part, "primitive", False, (), strokes,
-                           _t("headline.free", Part=_cap(name), shape=shape) + note, subs)]
+            refs = near + sorted((q for q in drawn if q not in near),
+                                 key=lambda q: (-part_size(self.chosen[q].box), q))
+            head = _t("headline.free", Part=_cap(name), shape=shape) + note
+
+            def free(sizes: list[tuple[Spec, list[int]]]) -> list[Spec]:
+                # with sizes said, "compare their sizes" is said by them
+                placing = (spec("free_near_sized" if sizes else "free_near",
+                                other=self.say(near[0])) if near else spec("free"))
+                return [placing, *where, *(x for x, _ in sizes), *repeat]
+
+            subs = self.lettered(self.sized(head, free, self.size_specs(
+                part, self.loose_axes(cand), refs)))
+            return [_Draft(part, "primitive", False, (), strokes, head, subs)]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
         flat: list[Spec] = []
         on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)
@@ -1197,7 +1268,16 @@ class _Context:
             if k and _too_small(self.camera, face.corners, k, self.settings.eyeball_mm2):
                 eyeball = True
         loose = self.loose_axes(cand)
-        dims = _join([words.dim(a) for a in loose])
+        # sizes judged by eye: compared with the parts it hangs off, then those it touches
+        refs = _unique([self.by_id[a.parent].part for a in cand.anchors]
+                       + [q for q in _touching(part, self.chosen, 100.0 * self.tol)
+                          if q in drawn])
+        sizes = self.size_specs(part, loose, refs)
+
+        def by_eye(chosen: list[tuple[Spec, list[int]]]) -> tuple[list[Spec], str]:
+            """The size sentences chosen, and the sizes left to the eye."""
+            done = {a for _, group in chosen for a in group}
+            return [x for x, _ in chosen], _join([words.dim(a) for a in loose if a not in done])
         parents = _join([_the(x) for x in _unique(self.say(self.by_id[a.parent].part)
                                                   for a in cand.anchors)])
         summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
@@ -1205,11 +1285,14 @@ class _Context:
         if eyeball:
             specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
                                                          True)) for a in cand.anchors]
-            subs = self.lettered(specs + ([spec("by_eye", dims=dims)] if loose else [])
-                                 + list(repeat))
-            return [_Draft(part, "primitive", True, (), strokes,
-                           _t("headline.eyeball", Part=_cap(name), shape=shape) + note, subs,
-                           summary)]
+            head = _t("headline.eyeball", Part=_cap(name), shape=shape) + note
+
+            def eyeballed(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
+                said, dims = by_eye(chosen)
+                return specs + said + ([spec("by_eye", dims=dims)] if dims else []) + list(repeat)
+
+            subs = self.lettered(self.sized(head, eyeballed, sizes))
+            return [_Draft(part, "primitive", True, (), strokes, head, subs, summary)]
         # Units of construction, one per parent face (lines shared on a face stay together).
         units: dict[tuple[str, int, str], _Unit] = {}
         earlier = [] if described is None else described
@@ -1270,18 +1353,22 @@ class _Context:
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part, carrying,
                                       carry_lines)
-        closing: list[Spec] = list(flat)
+        placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
             if anchor.end == "mid":
-                closing.append(spec("centred", (), ("centred",), part=name,
+                placing.append(spec("centred", (), ("centred",), part=name,
                                     line=Pts((con.result.start, con.result.end))))
         # an axis with no anchor at all: say what it lines up with, as for a part by eye
-        closing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
+        placing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
         # no line constructed (faces and planes of drawn parts only): no "these lines" to name
         there = "" if built else "_there"
-        closing.append(spec("place_by_eye" + there, shape=shape, dims=dims) if loose
-                       else spec("place" + there, shape=shape))
-        closing += repeat
+
+        def closing_with(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
+            said, dims = by_eye(chosen)
+            return (placing + said + [spec("place_by_eye" + there, shape=shape, dims=dims) if dims
+                                      else spec("place" + there, shape=shape)] + list(repeat))
+
+        closing = closing_with([])
         head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
         groups = self.pack(list(units.values()), closing, head, step)
         drafts: list[_Draft] = []
@@ -1308,8 +1395,8 @@ class _Context:
                 for i, r in enumerate(u.results):
                     cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
         reuse = [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
-        subs = self.lettered(reuse + [x for u in last for x in u.specs
-                                      if not (x.same and x.same in said)] + closing)
+        mine = reuse + [x for u in last for x in u.specs if not (x.same and x.same in said)]
+        subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
         self.record(last, here, described)
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
                  + [ln for u in last for ln in u.lines])
@@ -1349,15 +1436,9 @@ class _Context:
         the last group goes with ``closing`` (the placing sub-steps); one unit alone may
         exceed the limit (it is not cut).  Lines an earlier group drew are not counted again
         (they are not said again)."""
-        def words(specs: list[Spec], headline: str) -> int:
-            (subs, _), = letter_steps([self.lettered(specs)], self.tol, _substep, _join)
-            text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
-                                          for k, x in enumerate(subs)])
-            return len(text.split())
-
         def fits(group: list[_Unit], extra: list[Spec], said: set) -> bool:
             specs = [x for u in group for x in u.specs if not (x.same and x.same in said)]
-            return words(specs + extra, head) <= MAX_STEP_WORDS
+            return self.step_words(specs + extra, head) <= MAX_STEP_WORDS
 
         if not units or fits(units, closing, set()):
             return [units]

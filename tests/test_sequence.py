@@ -1098,7 +1098,7 @@ def test_a_free_part_is_placed_against_a_part_it_touches(examples):
         for i, s in enumerate(prims[1:], start=1):
             if chosen[s.part].anchors:
                 continue
-            m = re.search(r"by eye against the ([a-z0-9 _]+?);", s.text)
+            m = re.search(r"by eye against the ([a-z0-9 _]+?)[;.]", s.text)
             if not m:
                 continue
             other = next(p for p in chosen if p.replace("_", " ") == m.group(1))
@@ -1194,3 +1194,52 @@ def test_a_flat_rectangle_is_never_asked_for_its_thickness(shared_models):
                 assert dims[planes[step.part]] not in sentence, sentence
                 checked += 1
     assert checked
+
+
+def test_sizes_by_eye_are_compared_with_a_drawn_part_at_the_ratio_said(examples):
+    """Every size said ("Make its height about a third of the base's") holds on the selected
+    boxes within the tolerance, with the first reference that has an easy ratio; axes sized
+    this way are not also left "by eye"; and the pages say such sizes."""
+    from h2s_print import sequence as seq
+    from h2s_print.templates import lookup
+
+    value = {name: v for v, name in seq.SIZE_RATIOS}
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        ctx = seq._context(plan, t.views[0], t.paper, t.sequence)
+        chosen = plan.chosen()
+        ext = {p: [c.box[1][a] - c.box[0][a] for a in range(3)] for p, c in chosen.items()}
+        for part in chosen:
+            refs = sorted(q for q in chosen if q != part)
+            axes = ctx.loose_axes(chosen[part])
+            said = ctx.size_ratios(part, axes, refs)
+            assert len(said) <= seq.SIZE_SENTENCES
+            for ref, ratio, group in said:
+                for axis in group:
+                    assert axis in axes
+                    r = ext[part][axis] / ext[ref][axis]
+                    assert abs(r / value[ratio] - 1) <= seq.SIZE_TOLERANCE, (name, part, ref)
+                    # no earlier reference had an easy ratio on this axis
+                    for q in refs[:refs.index(ref)]:
+                        if ext[q][axis] > 0:
+                            rq = ext[part][axis] / ext[q][axis]
+                            assert all(abs(rq / v - 1) > seq.SIZE_TOLERANCE
+                                       for v, _ in seq.SIZE_RATIOS), (name, part, q)
+                    checked += 1
+    assert checked
+    # on the pages: the mixer's head is sized against the base, and its by-eye sentence names
+    # only the size left over
+    _, plan, views = examples["mixer"]
+    prefix = lookup("steps", "substep.size").split("{")[0]  # "Make its "
+    dims = lookup("steps", "dims")
+    for vp in views.values():
+        if vp.level != "novice":
+            continue
+        head = next(st for st in vp.steps if st.part == "head" and st.kind == "primitive")
+        sized = [s for s in head.substeps if s.startswith(prefix)]
+        assert sized and all("base's" in s for s in sized), head.substeps
+        by_eye = [s for s in head.substeps if "by eye" in s]
+        for s in sized:
+            for d in dims:
+                if s.startswith(prefix + d):
+                    assert not any(d in e for e in by_eye), head.substeps
