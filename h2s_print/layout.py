@@ -1062,7 +1062,8 @@ def _steps_per_page(plan: ViewPlan) -> int:
 
 
 def _legend_keys(plan: ViewPlan) -> list[str]:
-    keys = ["earlier", "earlier_hidden", "ink", "new", "guide_new", "guide_reused",
+    # the new part's hidden edges have a key of their own: dotted orange read as "new guide"
+    keys = ["earlier", "earlier_hidden", "ink", "new", "new_hidden", "guide_new", "guide_reused",
             "guide_idle", "vanishing", "corner"]
     if not any(step.guides for step in plan.steps):  # master and basic: no guide styles to explain
         keys = [k for k in keys if not k.startswith("guide_")]

@@ -716,3 +716,25 @@ def test_sheet_labels_keep_off_the_drawing(examples):
             assert not any(L._boxes_overlap(a.box_mm, b.box_mm)
                            for i, a in enumerate(texts) for b in texts[i + 1:]), (name, view)
     assert 2 * with_rule < without
+
+
+def test_every_line_style_of_a_step_picture_has_a_key(examples):
+    """The key under a step explains every style its picture uses: the new part's hidden
+    edges (dotted orange) were read as new guides when the key had no entry for them."""
+    from h2s_print import layout
+
+    for name, (_, _, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level == "basic":
+                continue
+            keys = set(layout._legend_keys(vp))
+            used = set()
+            for step in vp.steps:
+                for s in step.strokes:
+                    if s.kind in ("scaffold_hidden", "ellipse_hidden"):
+                        used.add("new_hidden")
+                    elif s.kind in ("scaffold", "ellipse"):
+                        used.add("new")
+                used |= {"guide_new" if g.status == "new" else "guide_reused" for g in step.guides}
+            assert used <= keys, (name, view, level, used - keys)
+            assert "new_hidden" in used  # every example draws a box with hidden edges
