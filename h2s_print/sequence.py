@@ -96,6 +96,13 @@ Decisions where the brief is open (kept here, in one place)
   any level, and the text says where to put it by eye ("about a third of the way ...").
   Ellipse steps use the same rule with ``k = 4`` per end face.
   Parts without anchors are never eyeballed (there is nothing to construct).
+* **Sizes to compare** (read-through of 2026-11-24).  A size left to the eye is compared with
+  a drawn part where the two make an easy ratio (:data:`SIZE_RATIOS`, within
+  :data:`SIZE_TOLERANCE`): "Make its width about three quarters of the base's."
+  (:meth:`_Context.size_ratios`).  The reference is a part the part hangs off, then one it
+  touches; for a part placed by eye, one it touches, then the biggest drawn.  At most
+  :data:`SIZE_SENTENCES` a step, and only while the step stays within
+  :data:`MAX_STEP_WORDS`: they never split a step (:meth:`_Context.sized`).
 * **Left out** (paper §5 (iii)).  A part is *hidden* when :func:`~h2s_print.contours.final_contours`
   (all parts hide all parts) leaves it no polyline; a hidden part is left out unless a kept
   part's construction is drawn from it (:meth:`_Context.guided_parts`): the first part of a
