@@ -797,6 +797,12 @@ def _moving_axis(line: _Line) -> int:
     return int(np.argmax(d))
 
 
+def _runs_along(run: Pts, axis: int) -> bool:
+    """Does the line ``run`` (two points) run along model axis ``axis``?"""
+    d = np.asarray(run.points[1], dtype=float) - np.asarray(run.points[0], dtype=float)
+    return bool(abs(d[axis]) >= (1.0 - 1e-9) * float(np.linalg.norm(d)) > 0.0)
+
+
 def _touching(part: str, chosen: dict[str, Any], tol: float) -> list[str]:
     """Other parts whose selected box touches or overlaps ``part``'s (closed boxes, within
     ``tol``): the parts a free part rests on or sits in."""
@@ -1349,7 +1355,12 @@ class _Context:
         # A carry is said by its first direction only: one that turns a corner (toward a
         # vanishing point, then across) is drawn on the picture; naming both made steps 10
         # words longer.
-        carries = list(carried.items())
+        # a line that already runs along its carry direction is extended, not carried
+        # ("Carry AB to part 4, vertically" where AB is vertical read as nonsense)
+        extended = [r for axis, runs in sorted(carried.items()) for r in runs
+                    if _runs_along(r, axis)]
+        carries = [(axis, kept) for axis, runs in carried.items()
+                   if (kept := [r for r in runs if not _runs_along(r, axis)])]
         if len(carries) == 2:  # two directions: one sentence
             (a0, r0), (a1, r1) = carries
             carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=words.vp(a0),
@@ -1357,6 +1368,8 @@ class _Context:
         else:
             carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
                         for axis, runs in carries]
+        if extended:
+            carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part, carrying,
                                       carry_lines)

@@ -1243,3 +1243,47 @@ def test_sizes_by_eye_are_compared_with_a_drawn_part_at_the_ratio_said(examples)
             for d in dims:
                 if s.startswith(prefix + d):
                     assert not any(d in e for e in by_eye), head.substeps
+
+
+def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
+    """"Carry AB to the head, vertically" never names a line that is itself vertical: such a
+    line is extended ("Extend AB to the head."), checked on the lettered points' 3D
+    positions."""
+    from h2s_print import sequence as seq
+    from h2s_print.templates import lookup
+
+    carry = lookup("steps", "substep.carry").split("{")[0]  # "Carry "
+    extend = lookup("steps", "substep.extend_to").split("{")[0]  # "Extend "
+
+    def direction(at, line):
+        d = np.asarray(at[line[1]], dtype=float) - np.asarray(at[line[0]], dtype=float)
+        return d / np.linalg.norm(d)
+
+    carried = extended = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            ctx = seq._context(plan, view, t.paper, t.sequence)
+            vps = {ctx.words.vp(a): a for a in range(3)}
+            vp = views[(view.name, "novice")]
+            for step in vp.steps:
+                at = {lb.name: lb.at3d for lb in step.labels}
+                for s in step.substeps:
+                    lines = re.findall(r"\b([A-Z]'*[A-Z]'*)\b", s.split(" to ")[0])
+                    if s.startswith(carry) and "," in s:
+                        # each run of lines goes the way of the direction named after it
+                        # ("Carry FG to ..., toward the left ..., and LM, toward the right ...")
+                        found = sorted((s.index(phrase), phrase, a) for phrase, a in vps.items()
+                                       if phrase in s)
+                        start = 0
+                        for pos, phrase, axis in found:
+                            for line in re.findall(r"\b([A-Z]'*[A-Z]'*)\b", s[start:pos]):
+                                d = direction(at, re.findall(r"[A-Z]'*", line))
+                                assert abs(d[axis]) < 1 - 1e-6, (name, step.index, s)
+                                carried += 1
+                            start = pos + len(phrase)
+                    elif s.startswith(extend) and " to " in s:
+                        for line in lines:
+                            d = direction(at, re.findall(r"[A-Z]'*", line))
+                            assert max(abs(d)) > 1 - 1e-6, (name, step.index, s)
+                            extended += 1
+    assert carried and extended
