@@ -133,6 +133,10 @@ Decisions recorded here (the brief left them open), measured with the defaults:
   are custom by default: a surface score cannot see that a U-shaped frame is not solid
   (0.009), and a box is the scaffold a sketcher would draw around it anyway.
 * Score ties between axes of one type go to the lowest axis.
+* ``detail["round"]`` marks a part that carries ellipses (:mod:`h2s_print.sequence`): a plane
+  whose outline is the ellipse inscribed in its box (a disc, a round table top), and a
+  frustum round at both ends (a bowl, a cup, a lamp shade: :func:`_round_frustum`).  A round
+  part that tapers is not called a cylinder for that: its two ellipses differ in size.
 * ``TAPER`` = 15 %: one end 15 % narrower than the other is a side slope of 4.3 degrees on a
   cube, seen in a drawing; moulding drafts of 1-2 degrees (3.5-7 % on a cube) are drawn as
   boxes.  The examples' frusta taper far more (the camera's prism 36 %, the mixer's bowl 51 %).
@@ -685,6 +689,8 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
     detail = dict(chosen.detail)
     if chosen.kind == "plane" and _round_outline(part, chosen.axis):
         detail["round"] = True  # a disc, a round plate or top: it carries its ellipse
+    elif chosen.kind == "frustum" and _round_frustum(part, chosen.axis, detail):
+        detail["round"] = True  # a bowl, a cup, a lamp shade: an ellipse on each end
     return Primitive(part.name, chosen.kind, chosen.axis, chosen.box, float(chosen.residual),
                      detail)
 
@@ -698,14 +704,48 @@ ROUND_MIN_CORNERS = 12
 
 def _round_outline(part: Part, axis: int) -> bool:
     """Is the outline of a flat part, seen along ``axis``, the ellipse inscribed in its box?"""
+    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
+    return _round_points(used, axis, part.box)
+
+
+#: A frustum is round when its smaller end is round too: the vertices in this share of its
+#: length next to that end, seen along the axis, outline the ellipse inscribed in their own
+#: rectangle (:func:`_round_points`).
+ROUND_END_SHARE = 0.25
+
+
+def _round_frustum(part: Part, axis: int, detail: dict[str, Any]) -> bool:
+    """Is the tapered part round (a bowl, a cup, a lamp shade), not a truncated pyramid?
+
+    Both its outline seen along ``axis`` (the larger end's, :func:`_round_outline`) and the
+    outline of the vertices next to its smaller end (:data:`ROUND_END_SHARE` of its length)
+    must be round: a pyramid on a round plate is not a round part.
+    """
+    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
+    if not _round_points(used, axis):
+        return False
+    small_lo = max(detail["lo_half"]) < max(detail["hi_half"])
+    t = used[:, axis]
+    lo, hi = float(t.min()), float(t.max())
+    cut = ROUND_END_SHARE * (hi - lo)
+    near = used[t <= lo + cut] if small_lo else used[t >= hi - cut]
+    return _round_points(near, axis)
+
+
+def _round_points(used: np.ndarray, axis: int, box: Box | None = None) -> bool:
+    """Do the points, seen along ``axis``, outline the ellipse inscribed in ``box`` (default:
+    their own bounding box): every convex-hull corner within :data:`ROUND_OUTLINE_TOL` of it,
+    at least :data:`ROUND_MIN_CORNERS` corners?"""
     from scipy.spatial import ConvexHull, QhullError
 
     u, v = _others(axis)
-    lo, hi = (np.asarray(x, dtype=float) for x in part.box)
+    if len(used) < ROUND_MIN_CORNERS:
+        return False
+    lo, hi = ((np.asarray(x, dtype=float) for x in box) if box is not None
+              else (used.min(axis=0), used.max(axis=0)))
     half = 0.5 * (hi - lo)
     if half[u] <= 0 or half[v] <= 0:
         return False
-    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
     q = (used[:, [u, v]] - 0.5 * (lo + hi)[[u, v]]) / half[[u, v]]
     try:
         hull = ConvexHull(q)

@@ -41,7 +41,8 @@ What a tutorial contains, in order
    selected box (front-facing first), each with its diagonals (role ``construction``), the two
    lines through the centre toward the vanishing points (role ``guide``) and the exact
    projection of the inscribed circle (:func:`h2s_print.constructions.ellipse_on_face`).
-   Frusta here are rectangular: no ellipse.
+   A round frustum (a bowl, ``detail["round"]``) gets them on its two end rectangles, each
+   constructed in its own rectangle (:meth:`_Context.ellipse_drafts`); a rectangular one none.
 3. **Contour steps** (kind ``contour``), one per part, *front to back*: a part that hides some
    of another part's lines (rays from the camera position to samples of that part's own
    visible contours) comes before it; among the parts nothing left hides, the nearest box
@@ -489,6 +490,17 @@ class _Draft:
     group: tuple[str, ...] = ()  # identical parts drawn in this step (their first is ``part``)
 
 
+def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
+    """"Use KL from step 2.": every line the units of ``groups`` (the guides steps numbered
+    from ``step``) draw, cited with the step that drew it (an earlier one for a line reused)."""
+    cited: dict[int, list[Pts]] = {}
+    for k, g in enumerate(groups):
+        for u in g:
+            for i, r in enumerate(u.results):
+                cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
+    return [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
+
+
 @dataclass
 class _Unit:
     """The constructions of one primitive step on one parent face: sub-steps, lines, results."""
@@ -746,10 +758,27 @@ _DRAWS: dict[str, tuple[str, ...]] = {
 
 
 def _round(prim: Any) -> bool:
-    """Does the part get ellipses: a cylinder, or a plane whose outline is round (a disc)?"""
+    """Does the part get ellipses: a cylinder, or a plane or frustum that is round (a disc, a
+    bowl: ``detail["round"]``, :mod:`h2s_print.fit`)?"""
     if prim.axis is None:
         return False
-    return prim.type == "cylinder" or (prim.type == "plane" and bool(prim.detail.get("round")))
+    return prim.type == "cylinder" or (prim.type in ("plane", "frustum")
+                                       and bool(prim.detail.get("round")))
+
+
+def _end_faces(prim: Any, box: Box) -> tuple[Face, Face]:
+    """The two end faces normal to the axis of a cylinder or frustum drawn in ``box``: the
+    box's faces, or a frustum's end rectangles (its scaffold's caps, :func:`_solid`) as flat
+    faces, ``lo`` then ``hi``."""
+    axis = prim.axis
+    if prim.type != "frustum":
+        return Face(box, axis, "lo"), Face(box, axis, "hi")
+    pts, _, _ = _solid(prim, box)
+    out = []
+    for end, quad in (("lo", pts[:4]), ("hi", pts[4:])):
+        out.append(Face((tuple(map(float, quad.min(axis=0))), tuple(map(float, quad.max(axis=0)))),
+                        axis, end))
+    return out[0], out[1]
 
 
 def _draws_known(s: Spec, known: Sequence[tuple[Vec3, Vec3]], tol: float) -> bool:
@@ -1409,13 +1438,7 @@ class _Context:
         last = groups[-1]
         here = step + len(groups) - 1
         before = [u for g in groups[:-1] for u in g]
-        cited: dict[int, list[Pts]] = {}  # each line cited with the step that drew it
-        for k, g in enumerate(groups[:-1]):
-            for u in g:
-                for i, r in enumerate(u.results):
-                    cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
-        reuse = [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
-        mine = reuse + [x for u in last for x in u.specs if not (x.same and x.same in said)]
+        mine = _citations(groups[:-1], step) + [x for u in last for x in u.specs if not (x.same and x.same in said)]
         subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
         self.record(last, here, described)
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
@@ -1481,12 +1504,23 @@ class _Context:
             u = movable.pop(0)  # (a line only reused stays: moving it would cite it twice)
             tail.remove(u)
             rest.append(u)
-        groups: list[list[_Unit]] = []
-        for u in rest:
-            if groups and fits(groups[-1] + [u], [], said_by(groups[:-1])):
-                groups[-1].append(u)
-            else:
-                groups.append([u])
+        def grouped(rest: list[_Unit]) -> list[list[_Unit]]:
+            groups: list[list[_Unit]] = []
+            for u in rest:
+                if groups and fits(groups[-1] + [u], [], said_by(groups[:-1])):
+                    groups[-1].append(u)
+                else:
+                    groups.append([u])
+            return groups
+
+        groups = grouped(rest)
+        # the estimate above cites every line as one step's; the guides steps now known, the
+        # placing step cites each with its own step ("Use UV from step 5. Use HJ from step 6.")
+        while movable and not fits(tail, _citations(groups, step) + closing, said_by(groups)):
+            u = movable.pop(0)
+            tail.remove(u)
+            rest.append(u)
+            groups = grouped(rest)
         return groups + [tail]
 
     def box_around(self, part: str) -> list[_Line]:
@@ -1561,24 +1595,26 @@ class _Context:
                        copies: Sequence[tuple[str, Box]] = ()) -> list[_Draft]:
         """The ellipse steps of a round part (and of its identical ``copies``).
 
-        A round plate has one ellipse, a cylinder two, each its own step (one ellipse a page):
-        the ellipse of the end face turned toward the camera (the *near* one) is constructed
-        in that face (diagonals for its centre, lines through the centre toward the vanishing
-        points, the ellipse through the four points where they meet the edges), its points
-        lettered; the far end face, which the view shows from behind, is never constructed on:
-        lines carried from the four points toward the axis' vanishing point meet its edges
-        where its ellipse touches them.  Copies get the same lines and ellipses, said once.
+        A round plate has one ellipse, a cylinder and a round frustum two, each its own step
+        (one ellipse a page): the ellipse of the end face turned toward the camera (the *near*
+        one) is constructed in that face (diagonals for its centre, lines through the centre
+        toward the vanishing points, the ellipse through the four points where they meet the
+        edges), its points lettered.  A cylinder's far end face, which the view shows from
+        behind, is never constructed on: lines carried from the four points toward the axis'
+        vanishing point meet its edges where its ellipse touches them.  A round frustum's
+        (a bowl's) ends differ in size, so nothing carries: its far end rectangle, which its
+        scaffold draws, gets the same construction as the near one (or, under the eyeball
+        rule, its ellipse by eye).  Copies get the same lines and ellipses, said once.
         The construction is shown on the copy whose near face the picture shows largest; that
         face under the eyeball rule (``k = 4``), or ``basic``, makes one step "by eye" for both
         ellipses (it joins the part's outline step in a guided tutorial).
         """
         prim = self.plan.primitive(part)
         axis = prim.axis
-        u, v = (a for a in range(3) if a != axis)
         members = [(part, box), *copies]
         names = sorted((self.say(q) for q, _ in members), key=natural_key)
         who = _cap(_join(names))
-        # per copy: its near ellipse and (a cylinder) its far one
+        # per copy: its near ellipse and (a cylinder, a round frustum) its far one
         ends: list[tuple[str, Any, Any]] = []
         for q, b in members:
             if prim.type == "plane":  # a round plate: its ellipse in the rectangle drawn
@@ -1588,7 +1624,7 @@ class _Context:
                 ends.append((q, ellipse_on_face(Face((tuple(lo), tuple(hi)), axis, "lo"),
                                                 self.camera), None))
                 continue
-            faces = sorted((Face(b, axis, "lo"), Face(b, axis, "hi")),
+            faces = sorted(_end_faces(prim, b),
                            key=lambda f: (not _front_facing(f, self.camera), f.end))
             ends.append((q, ellipse_on_face(faces[0], self.camera),
                          ellipse_on_face(faces[1], self.camera)))
@@ -1607,39 +1643,64 @@ class _Context:
             strokes += [st for q, _, be in far for st in self.ellipse_strokes(q, be, basic)]
             return [_Draft(part, "ellipse", True, (), tuple(strokes), head,
                            self.lettered([spec("ellipse_by_eye")]))]
+        same = [spec("ellipse_copies")] if copies else []
+        key = "ellipse_plate" if not far else "ellipse_near"
+        strokes = tuple(st for q, e in near for st in self.ellipse_strokes(q, e, basic))
+        out = [_Draft(part, "ellipse", False,
+                      tuple(_Line(ln.role, ln.start, ln.end) for _, e in near for ln in e.lines),
+                      strokes,
+                      _t(f"headline.{key}" + ("" if one else "_many"),
+                         Part=_cap(self.say(part)), Parts=who),
+                      self.lettered(self.ellipse_specs(near[0][0], near[0][1], bool(far),
+                                                       strokes) + same))]
+        if not far:
+            return out
+        head = _t("headline.ellipse_far" + ("" if one else "_many"), Part=_cap(self.say(part)),
+                  Parts=who)
+        strokes = tuple(st for q, _, be in far for st in self.ellipse_strokes(q, be, basic))
+        if prim.type == "frustum":  # its own construction on the far end rectangle
+            be = far[0][2]
+            if _too_small(self.camera, be.face.corners, 4, self.settings.eyeball_mm2):
+                out.append(_Draft(part, "ellipse", True, (), strokes, head,
+                                  self.lettered([spec("ellipse_by_eye_end")])))
+            else:
+                out.append(_Draft(
+                    part, "ellipse", False,
+                    tuple(_Line(ln.role, ln.start, ln.end) for _, _, e in far for ln in e.lines),
+                    strokes, head,
+                    self.lettered(self.ellipse_specs(far[0][0], be, True, strokes) + same)))
+            return out
         fe = near[0][1]
+        around = Many(tuple(Pts((x,)) for x in fe.touch))
+        out.append(_Draft(
+            part, "ellipse", False,
+            tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
+            strokes, head,
+            self.lettered([spec("ellipse_carry", points=around, vp=self.words.vp(axis)),
+                           *same])))
+        return out
+
+    def ellipse_specs(self, part: str, fe: Any, solid: bool,
+                      strokes: Sequence[Stroke]) -> list[Spec]:
+        """The sub-steps constructing ellipse ``fe`` of ``part`` in its face: diagonals for the
+        centre, the lines through it toward the vanishing points, the ellipse through the four
+        points (``dotted where hidden`` when ``strokes`` has hidden runs)."""
+        u, v = fe.face.in_axes
         a, b, c, d = fe.face.corners
         t = fe.touch  # the middles of the edges: (u hi, v hi, u lo, v lo), round the face
         around = Many(tuple(Pts((x,)) for x in t))
-        same = [spec("ellipse_copies")] if copies else []
-        specs = [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
-                      point=Pts((fe.centre,)), part=self.say(near[0][0]),
-                      face=self.words.face(axis, fe.face.end))
-                 if far else  # a plate is drawn as one rectangle
-                 spec("ellipse_diagonals_plate", first=Pts((a, c)), second=Pts((b, d)),
-                      point=Pts((fe.centre,)), part=self.say(near[0][0])),
-                 spec("through", point=Pts((fe.centre,)), line=Pts((t[2], t[0])),
-                      vp=self.words.vp(u)),
-                 spec("through", point=Pts((fe.centre,)), line=Pts((t[3], t[1])),
-                      vp=self.words.vp(v)),
-                 spec("ellipse_draw", points=around), *same]
-        key = "ellipse_plate" if not far else "ellipse_near"
-        out = [_Draft(part, "ellipse", False,
-                      tuple(_Line(ln.role, ln.start, ln.end) for _, e in near for ln in e.lines),
-                      tuple(st for q, e in near for st in self.ellipse_strokes(q, e, basic)),
-                      _t(f"headline.{key}" + ("" if one else "_many"),
-                         Part=_cap(self.say(part)), Parts=who),
-                      self.lettered(specs))]
-        if far:
-            out.append(_Draft(
-                part, "ellipse", False,
-                tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
-                tuple(st for q, _, be in far for st in self.ellipse_strokes(q, be, basic)),
-                _t("headline.ellipse_far" + ("" if one else "_many"), Part=_cap(self.say(part)),
-                   Parts=who),
-                self.lettered([spec("ellipse_carry", points=around, vp=self.words.vp(axis)),
-                               *same])))
-        return out
+        hidden_runs = any(st.kind == "ellipse_hidden" for st in strokes)
+        return [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
+                     point=Pts((fe.centre,)), part=self.say(part),
+                     face=self.words.face(fe.face.normal, fe.face.end))
+                if solid else  # a plate is drawn as one rectangle
+                spec("ellipse_diagonals_plate", first=Pts((a, c)), second=Pts((b, d)),
+                     point=Pts((fe.centre,)), part=self.say(part)),
+                spec("through", point=Pts((fe.centre,)), line=Pts((t[2], t[0])),
+                     vp=self.words.vp(u)),
+                spec("through", point=Pts((fe.centre,)), line=Pts((t[3], t[1])),
+                     vp=self.words.vp(v)),
+                spec("ellipse_draw_hidden" if hidden_runs else "ellipse_draw", points=around)]
 
     def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
         """Contour steps, front to back (:func:`_front_to_back`); each part's lines are its

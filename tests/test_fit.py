@@ -135,6 +135,31 @@ def test_round_plates_carry_their_ellipse_and_square_ones_do_not():
     assert "round" not in fit_primitive(_part(*_as_arrays(octagon))).detail
 
 
+def _truncated(bottom: np.ndarray, top: np.ndarray) -> trimesh.Trimesh:
+    """The convex solid between two cross-sections (k, 2) at heights 0 and 2."""
+    pts = np.vstack([np.c_[bottom, np.zeros(len(bottom))], np.c_[top, np.full(len(top), 2.0)]])
+    return trimesh.convex.convex_hull(pts)
+
+
+def _ring(r: float, k: int, phase: float = 0.0) -> np.ndarray:
+    t = phase + 2 * np.pi * np.arange(k) / k
+    return r * np.c_[np.cos(t), np.sin(t)]
+
+
+def test_round_frusta_carry_their_ellipses_and_pyramids_do_not():
+    """A bowl (round ends) is a round frustum; a truncated pyramid is not, nor is a pyramid
+    whose wide end is round but whose small end is square (both ends are checked)."""
+    bowl = fit_primitive(_part(*_as_arrays(_truncated(_ring(1.0, 64), _ring(2.0, 64)))))
+    assert bowl.type == "frustum" and bowl.axis == 2 and bowl.detail.get("round") is True
+    cup = fit_primitive(_part(*_as_arrays(_truncated(_ring(2.0, 64), _ring(1.2, 64)))))
+    assert cup.type == "frustum" and cup.detail.get("round") is True
+    square = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    pyramid = fit_primitive(_part(*_as_arrays(_truncated(square, 2.0 * square))))
+    assert pyramid.type == "frustum" and "round" not in pyramid.detail
+    mixed = fit_primitive(_part(*_as_arrays(_truncated(0.6 * square, _ring(2.0, 64)))))
+    assert mixed.type == "frustum" and "round" not in mixed.detail
+
+
 def test_thick_disc_is_a_cylinder():
     # a coin 1/10 as thick as wide is not a thin slab (1/10 > 1/25)
     prim = fit_primitive(_part(*_as_arrays(trimesh.creation.cylinder(1.0, 0.2, sections=64))))

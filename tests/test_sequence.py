@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import re
 from pathlib import Path
 
@@ -842,10 +843,13 @@ def test_ellipse_steps_for_cylinders(examples):
             vp = views[(view.name, "novice")]
             eye = np.asarray(vp.camera.position, float)
             cyl = {p.part for p in plan.primitives if p.type == "cylinder"}
+            bowls = {p.part for p in plan.primitives  # round frusta: their own test below
+                     if p.type == "frustum" and p.detail.get("round")}
             drawn = {st.part for s in vp.steps if s.kind == "primitive" for st in s.strokes}
             strokes = [st for s in vp.steps if s.kind in ("ellipse", "contour")
                        for st in s.strokes if st.kind in ("ellipse", "ellipse_hidden")]
-            assert {st.part for st in strokes} == cyl & drawn, (name, view.name)
+            assert {st.part for st in strokes} == (cyl | bowls) & drawn, (name, view.name)
+            strokes = [st for st in strokes if st.part not in bowls]
             for part in cyl & drawn:
                 box = np.asarray(plan.chosen()[part].box, float)
                 axis = plan.primitive(part).axis
@@ -859,7 +863,8 @@ def test_ellipse_steps_for_cylinders(examples):
                     starts = {tuple(np.round(r[0], 9)) for r in runs}
                     stops = {tuple(np.round(r[-1], 9)) for r in runs}
                     assert starts == stops
-            for s in (s for s in vp.steps if s.kind == "ellipse" and not s.eyeball):
+            for s in (s for s in vp.steps if s.kind == "ellipse" and not s.eyeball
+                      and s.part not in bowls):
                 part = s.part
                 box = np.asarray(plan.chosen()[part].box, float)
                 axis = plan.primitive(part).axis
@@ -886,7 +891,7 @@ def test_ellipse_steps_for_cylinders(examples):
             # lines), area and width measured here on the projected face
             for s in vp.steps:
                 for part in {st.part for st in s.strokes if st.kind.startswith("ellipse")}:
-                    if s.kind == "ellipse" and not s.eyeball:
+                    if s.kind == "ellipse" and not s.eyeball or part in bowls:
                         continue
                     prim = plan.primitive(part)
                     box = np.asarray(plan.chosen()[part].box, float)
@@ -909,6 +914,63 @@ def test_ellipse_steps_for_cylinders(examples):
                             or area / longest < seq.MIN_FACE_WIDTH_MM), (name, part, area)
                     checked += 1
     assert checked >= 8
+
+
+def test_round_frustum_ellipses_are_inscribed_in_its_drawn_end_rectangles(examples):
+    """A round tapered part (the mixer's bowl) gets an ellipse on each end, each constructed
+    in that end's rectangle of the tapered box its primitive step drew: the diagonals join
+    the rectangle's corners, the two lines through the centre join its edges' middles, and
+    every point of the ellipse lies on the ellipse inscribed in the rectangle.  The rectangle
+    is recomputed here from the fitted frustum's end half-sizes, mapped per axis onto the
+    selected box."""
+    t, plan, views = examples["mixer"]
+    prim = plan.primitive("bowl")
+    assert prim.type == "frustum" and prim.detail.get("round") is True
+    axis = prim.axis
+    u, v = (k for k in range(3) if k != axis)
+    fb = np.asarray(prim.box, float)
+    sb = np.asarray(plan.chosen()["bowl"].box, float)
+
+    def mapped(k: int, x: float) -> float:  # the fitted box onto the selected one, axis k
+        return sb[0][k] + (x - fb[0][k]) / (fb[1][k] - fb[0][k]) * (sb[1][k] - sb[0][k])
+
+    rects = {}  # end coordinate -> (centre u, centre v, half u, half v)
+    for end, half in ((0, prim.detail["lo_half"]), (1, prim.detail["hi_half"])):
+        cu, cv = prim.detail["centre"]
+        lo_u, hi_u = mapped(u, cu - half[0]), mapped(u, cu + half[0])
+        lo_v, hi_v = mapped(v, cv - half[1]), mapped(v, cv + half[1])
+        rects[float(sb[end][axis])] = ((lo_u + hi_u) / 2, (lo_v + hi_v) / 2,
+                                       (hi_u - lo_u) / 2, (hi_v - lo_v) / 2)
+    for view in t.views:
+        vp = views[(view.name, "novice")]
+        steps = [s for s in vp.steps if s.kind == "ellipse" and s.part == "bowl"]
+        assert len(steps) == 2 and not any(s.eyeball for s in steps), view.name
+        scaffold = [np.asarray(st.points3d, float) for s in vp.steps if s.kind == "primitive"
+                    for st in s.strokes if st.part == "bowl"]
+        ends = set()
+        for s in steps:
+            pts = np.vstack([np.asarray(st.points3d, float) for st in s.strokes])
+            assert np.ptp(pts[:, axis]) == 0.0
+            at = float(pts[0, axis])
+            ends.add(at)
+            cu, cv, hu, hv = rects[at]
+            r = ((pts[:, u] - cu) / hu) ** 2 + ((pts[:, v] - cv) / hv) ** 2
+            assert np.allclose(r, 1.0, atol=1e-9)
+            corners = [(cu + su * hu, cv + sv * hv) for su in (-1, 1) for sv in (-1, 1)]
+            middles = [(cu + hu, cv), (cu - hu, cv), (cu, cv + hv), (cu, cv - hv)]
+            # the rectangle's corners are ends of the scaffold's edges drawn before
+            tips = [(q[u], q[v]) for e in scaffold for q in (e[0], e[-1])
+                    if abs(q[axis] - at) < 1e-9]
+            for c in corners:
+                assert min(math.dist(c, q) for q in tips) < 1e-6
+            assert len(s.guides) == 4
+            for g in s.guides:
+                a, b = ((g.from3d[u], g.from3d[v]), (g.to3d[u], g.to3d[v]))
+                assert g.from3d[axis] == g.to3d[axis] == at
+                pool = corners if g.role == "construction" else middles
+                assert min(math.dist(a, c) for c in pool) < 1e-6
+                assert min(math.dist(b, c) for c in pool) < 1e-6
+        assert ends == {float(sb[0][axis]), float(sb[1][axis])}
 
 
 # ----------------------------------------------------------------------------- text, determinism
