@@ -1091,7 +1091,8 @@ class _Context:
         """:meth:`size_ratios` said ("Make its height about a third of the base's."), each
         with the axes it sizes."""
         amounts = _raw("size_amounts")
-        return [(spec("size", dims=_join([self.words.dim(a) for a in group]),
+        return [(spec("size" if len(group) == 1 else "size_many",
+                      dims=_join([self.words.dim(a) for a in group]),
                       amount=amounts[name], parent=self.say(ref)), group)
                 for ref, name, group in self.size_ratios(part, axes, refs)]
 
