@@ -1052,9 +1052,40 @@ def _instruction(x: float, top: float, width: float, step: Step, size: float
 
 
 def _erase_hint(plan: ViewPlan, i: int) -> str:
-    """The step's "you may erase ..." line (empty when nothing retires)."""
+    """The step's "you may erase ..." line (empty when nothing retires): the lines by their
+    letters ("Afterwards you may erase AC, BD and FG.") when both ends of each are lettered on
+    this step's picture, else their number and where to see which (the next picture no
+    longer shows them)."""
     extra = _erasable(plan, i)
-    return "" if extra == 0 else plain_text(templates.plural("pages", "step.erase", extra))
+    if extra == 0:
+        return ""
+    later = {g.id for g, _ in _step_guides(plan, i + 1)}
+    names: list[str] = []
+    for g, _ in _step_guides(plan, i):
+        if g.id in later:
+            continue
+        name = _letters_of(plan.steps[i], g)
+        if name is None:
+            return plain_text(templates.plural("pages", "step.erase", extra))
+        if name not in names:
+            names.append(name)
+    join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
+    lines = names[0] if len(names) == 1 else join.join(names[:-1]) + last + names[-1]
+    return plain_text(templates.text("pages", "step.erase_named", lines=lines))
+
+
+def _letters_of(step: Step, guide: Guide) -> str | None:
+    """The guide's name on the step's picture ("AC"): the letters at its two ends, or None
+    when an end is not a lettered point there."""
+    out = ""
+    for end in (guide.from3d, guide.to3d):
+        tol = 1e-9 * (1.0 + max(abs(c) for c in end))
+        hit = next((lb.name for lb in step.labels
+                    if lb.kind == "point" and math.dist(lb.at3d, end) <= tol), None)
+        if hit is None:
+            return None
+        out += hit
+    return out
 
 
 def _steps_per_page(plan: ViewPlan) -> int:

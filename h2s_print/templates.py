@@ -57,7 +57,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "vp2", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",
-        "last", "level", "minutes", "n", "page", "pages", "the_part", "title", "vdir", "view",
+        "last", "level", "lines", "minutes", "n", "page", "pages", "the_part", "title", "vdir", "view",
         "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((

@@ -582,3 +582,47 @@ def test_an_uneven_row_keeps_its_copies_where_the_picture_shows_them(tmp_path):
     assert not [s for s in vp.steps if "spaced like" in s.headline]
     drawn = {st.part for s in vp.steps if s.kind == "primitive" for st in s.strokes}
     assert {"knob_1", "knob_2", "knob_3", "knob_4"} <= drawn
+
+
+def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
+    """"Afterwards you may erase AB and DE.": each name is two lettered points of the step's
+    picture joined by a guide the step shows (its own, reused or kept) that the next step no
+    longer shows, and the names count every such guide; otherwise the hint gives the count
+    and says the next picture no longer shows them."""
+    named = counted = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level not in ("novice", "apprentice"):
+                continue
+            for i, step in enumerate(vp.steps[:-1]):
+                shown = {g.id: g for g in step.guides}
+                for gid in step.alive:  # kept from earlier steps: where they were drawn last
+                    for earlier in reversed(vp.steps[:i]):
+                        g = next((g for g in earlier.guides if g.id == gid), None)
+                        if g is not None:
+                            shown.setdefault(gid, g)
+                            break
+                nxt = vp.steps[i + 1]
+                gone = {gid: g for gid, g in shown.items()
+                        if gid not in {g.id for g in nxt.guides} | set(nxt.alive)}
+                hint = L._erase_hint(vp, i)
+                if not gone:
+                    assert hint == ""
+                    continue
+                m = re.fullmatch(r"Afterwards you may erase ([A-Z',]+(?:, [A-Z']+)*"
+                                 r"(?: and [A-Z']+)?)\.", hint)
+                if m is None:
+                    assert f"erase {len(gone)} guide line" in hint and "next picture" in hint
+                    counted += 1
+                    continue
+                names = re.split(r", | and ", m.group(1))
+                at = {lb.name: lb.at3d for lb in step.labels if lb.kind == "point"}
+                ends = {frozenset((tuple(np.round(g.from3d, 6)), tuple(np.round(g.to3d, 6))))
+                        for g in gone.values()}
+                said = set()
+                for n in names:
+                    a, b = re.findall(r"[A-Z]'*", n)
+                    said.add(frozenset((tuple(np.round(at[a], 6)), tuple(np.round(at[b], 6)))))
+                assert said == ends, (name, view, level, step.index, hint)
+                named += 1
+    assert named > 10 and counted > 0

@@ -80,7 +80,7 @@ def test_plural_forms_follow_the_languages_rules(folder):
         got = [templates.plural("pages", "step.erase", n) for n in (1, 2, 5, 21, 22, 11)]
     assert got == ["1 линию", "2 линии", "5 линий", "21 линию", "22 линии", "11 линий"]
     with templates.using("en"):
-        assert templates.plural("pages", "step.erase", 1).startswith("Afterwards you may erase 1 guide line ")
+        assert templates.plural("pages", "step.erase", 1).startswith("Afterwards you may erase 1 guide line:")
         assert "2 guide lines" in templates.plural("pages", "step.erase", 2)
     shutil.rmtree(folder / "ru")
     templates.load.cache_clear()
