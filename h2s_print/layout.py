@@ -565,10 +565,108 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
 
 
 def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item]:
-    """The cumulative drawing at step ``i`` (0-based) in ``view``."""
+    """The cumulative drawing at step ``i`` (0-based) in ``view``, lettered; crowded letters
+    go in a close-up (:func:`_close_up`) drawn in a corner of the picture."""
     step = plan.steps[i]
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
-    items += _vanishing_lines(view, plan, step.strokes)
+    drawing = _drawing(view, plan, i)
+    items += drawing
+    zoom = _close_up(view, step, _segments(items), _segments(
+        [it for it in drawing if isinstance(it, Polyline) and it.role.startswith("stroke")]))
+    if zoom is None:
+        return items + place_labels(view, step.labels, items)
+    region, zview = zoom
+    items += place_labels(view, [lb for lb in step.labels if lb.kind == "part"], items)
+    items.append(Rect(region[0], region[1], region[2] - region[0], region[3] - region[1],
+                      "grey", 0.25, None, "close_up_region"))
+    x0, y0, x1, y1 = zview.rect
+    items.append(Rect(x0, y0, x1 - x0, y1 - y0, "grey", 0.35, "white", "close_up"))
+    # its caption outside it, on the side toward the middle of the picture
+    size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
+    below = (y0 + y1) / 2 > (view.rect[1] + view.rect[3]) / 2
+    items.append(Text(x0, y0 - 1.0 - cap if below else y1 + 1.0, _t("step.close_up"), size,
+                      "Helvetica-Oblique", "start", "grey", "close_up_caption"))
+    lines = _drawing(zview, plan, i)
+    return items + lines + place_labels(zview, [lb for lb in step.labels
+                                                if lb.kind == "point"], lines)
+
+
+#: A step's lettered points get a close-up when two of them lie closer than this on the
+#: picture (page mm; about two letter heights) ...
+CLOSE_UP_CROWDED_MM = 5.0
+#: ... magnified so that those two lie this far apart, at most :data:`CLOSE_UP_MAX_ZOOM`
+#: times, and only if at least :data:`CLOSE_UP_MIN_ZOOM` times fits (less is not worth the
+#: part of the picture it covers).
+CLOSE_UP_SPACING_MM = 9.0
+CLOSE_UP_MAX_ZOOM = 3.0
+CLOSE_UP_MIN_ZOOM = 1.6
+#: The close-up is at most this share of the picture's width and of its height, ...
+CLOSE_UP_SHARE = 0.45
+#: ... shows this much round the points (page mm, before magnifying) ...
+CLOSE_UP_PAD_MM = 3.0
+#: ... and sits this far inside a corner of the picture, with a caption of this size beside it
+#: (the room for it is kept, :func:`_close_up`).
+CLOSE_UP_INSET_MM = 1.5
+CLOSE_UP_CAPTION_PT = 6.5
+
+
+def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray
+              ) -> tuple[Box2, _View] | None:
+    """Where a crowded step's letters go: the region round its lettered points (page mm) and
+    the view that magnifies it into a corner (or the middle of an edge) of the picture, or
+    None when the letters have room (no two points closer than :data:`CLOSE_UP_CROWDED_MM`)
+    or no place can take the close-up without covering the region or a part's name.  Of the
+    places that can, the one hiding the fewest lines of the object (``drawn``, segments of
+    its strokes), then the most magnified (a smaller close-up is tried where the largest
+    covers the object), then the one hiding the fewest lines of any kind (``segs``)."""
+    pts = [view.map(lb.at_mm) for lb in step.labels if lb.kind == "point"]
+    if len(pts) < 2:
+        return None
+    closest = min(math.dist(a, b) for k, a in enumerate(pts) for b in pts[k + 1:])
+    if closest >= CLOSE_UP_CROWDED_MM:
+        return None
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    pad = CLOSE_UP_PAD_MM
+    region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
+    rw, rh = region[2] - region[0], region[3] - region[1]
+    x0, y0, x1, y1 = view.rect
+    zoom = min(CLOSE_UP_MAX_ZOOM, CLOSE_UP_SPACING_MM / max(closest, 1e-9),
+               CLOSE_UP_SHARE * (x1 - x0) / rw, CLOSE_UP_SHARE * (y1 - y0) / rh)
+    if zoom < CLOSE_UP_MIN_ZOOM:
+        return None
+    m = CLOSE_UP_INSET_MM
+    names = [view.map(lb.at_mm) for lb in step.labels if lb.kind == "part"]
+    best: tuple[tuple[int, float, int], Box2] | None = None
+    # largest first, smaller (down to the least zoom) where a larger one covers the object
+    for z in (zoom * f for f in (1.0, 0.85, 0.7, 0.55)):
+        if z < CLOSE_UP_MIN_ZOOM:
+            break
+        w, h = rw * z, rh * z
+        cx, cy = (x0 + x1 - w) / 2, (y0 + y1 - h) / 2
+        for bx, by in ((x1 - m - w, y1 - m - h), (x0 + m, y1 - m - h),
+                       (x1 - m - w, y0 + m), (x0 + m, y0 + m),
+                       (cx, y1 - m - h), (cx, y0 + m), (x0 + m, cy), (x1 - m - w, cy)):
+            box = (bx, by, bx + w, by + h)
+            if _boxes_overlap(box, region) or any(
+                    box[0] <= q[0] <= box[2] and box[1] <= q[1] <= box[3] for q in names):
+                continue
+            score = (_crossings(drawn, box), -z, _crossings(segs, box))
+            if best is None or score < best[0]:
+                best = (score, box)
+        if best is not None and best[0][0] == 0:
+            break
+    if best is None:
+        return None
+    s = view.scale
+    window = (view.window[0] + (region[0] - x0) / s, view.window[1] + (region[1] - y0) / s,
+              view.window[0] + (region[2] - x0) / s, view.window[1] + (region[3] - y0) / s)
+    return region, _View(window, best[1])
+
+
+def _drawing(view: _View, plan: ViewPlan, i: int) -> list[Item]:
+    """The lines of the picture at step ``i`` in ``view`` (no sheet, no letters)."""
+    step = plan.steps[i]
+    items: list[Item] = _vanishing_lines(view, plan, step.strokes)
     # Earlier lines: the scaffold grey (its hidden edges dotted, fainter), contours already
     # drawn in ink, so the object emerges from its scaffold as in the paper's figures.
     for earlier in plan.steps[:i]:
@@ -581,7 +679,6 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item
     for s in step.strokes:
         key = "new_hidden" if s.kind in ("scaffold_hidden", "ellipse_hidden") else "new"
         items += view.lines(s.points_mm, STYLES[key], "stroke_new")
-    items += place_labels(view, step.labels, items)
     return items
 
 

@@ -159,7 +159,9 @@ def _pictures(page, plan):
 
 @pytest.mark.parametrize("level", ["novice", "apprentice"])
 def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples, level):
-    checked = 0
+    """Each letter at its point's projection (through the close-up's magnification when the
+    step has one), inside the picture, no two overlapping."""
+    checked = zoomed = 0
     for name, (t, plan, views) in examples.items():
         for (view, lv), vp in views.items():
             if lv != level:
@@ -180,6 +182,18 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                 drawn = {tx.string: d for d, tx in mine}
                 named = _letters_in(step.substeps)
                 assert named <= set(drawn), (name, view, step.index, named - set(drawn))
+                inside = lambda it: (box[0] <= it.x_mm <= box[2] and box[1] <= it.y_mm <= box[3])
+                rects = {it.role: it for it in page.items if isinstance(it, L.Rect)
+                         and it.role in ("close_up", "close_up_region") and inside(it)}
+                zoom = ((rects["close_up_region"], rects["close_up"]) if rects else None)
+                if zoom is not None:  # a close-up shows the region it magnifies whole
+                    region, close = zoom
+                    assert not L._boxes_overlap(
+                        (region.x_mm, region.y_mm, region.x_mm + region.w_mm,
+                         region.y_mm + region.h_mm),
+                        (close.x_mm, close.y_mm, close.x_mm + close.w_mm,
+                         close.y_mm + close.h_mm))
+                    zoomed += 1
                 parts = [it.string for it in page.items if isinstance(it, L.Text)
                          and it.role == "part_label" and box[0] <= it.x_mm <= box[2]
                          and box[1] <= it.y_mm <= box[3]]
@@ -190,7 +204,15 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                     h = P @ np.array([*lb.at3d, 1.0])
                     want = h[:2] / h[2]  # the point's projection, sheet mm
                     d = drawn[lb.name]
-                    got = ((d.cx_mm - rect.x_mm) / scale, (d.cy_mm - rect.y_mm) / scale)
+                    x, y = d.cx_mm, d.cy_mm
+                    if zoom is not None:  # letters in the close-up: back to the picture
+                        region, close = zoom
+                        z = close.w_mm / region.w_mm
+                        assert close.h_mm / region.h_mm == pytest.approx(z)
+                        assert z >= L.CLOSE_UP_MIN_ZOOM
+                        x = region.x_mm + (x - close.x_mm) / z
+                        y = region.y_mm + (y - close.y_mm) / z
+                    got = ((x - rect.x_mm) / scale, (y - rect.y_mm) / scale)
                     assert np.allclose(got, want, atol=0.05), (name, step.index, lb.name)
                     checked += 1
                 boxes = [tx.box_mm for _, tx in mine]
@@ -201,7 +223,7 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                 for (d, _), b in itertools.product(mine, boxes):  # nor cover another's dot
                     inside = b[0] < d.cx_mm < b[2] and b[1] < d.cy_mm < b[3]
                     assert not inside or any(tx.box_mm == b and dd is d for dd, tx in mine)
-    assert checked > 100
+    assert checked > 100 and zoomed > 0
 
 
 def test_a_step_stays_short_and_a_master_reads_headline_and_ratio_words(examples):
