@@ -66,6 +66,7 @@ def main() -> None:
                                       [(f"{tutorial.title} > {view.name} > {view.level}", pages)])[1],
     }
     wanted["page-step-spacing"] = _spacing_page()
+    wanted["page-step-bowl"], wanted["page-step-close-up"] = _round_pages()
     wanted["page-cyrillic"] = _cyrillic_page()
     cjk = _cjk_page()
     if cjk is not None:
@@ -110,6 +111,22 @@ def _spacing_page():
              if p.kind == "steps"]
     last = max(k for k, st in enumerate(vp.steps) if st.kind == "primitive")
     return pages[last]  # knobs 3 and 4, spaced like knobs 1 and 2
+
+
+def _round_pages():
+    """The mixer's bowl (a round tapered part): the ellipse of its rim constructed in the top
+    of its tapered box (front-left, novice); and the roller's handle, whose crowded letters
+    get a close-up (high-right, novice)."""
+    out = []
+    for name, view_name, part in (("mixer", "front-left", "bowl"), ("roller", "high-right", "handle")):
+        tutorial = load_tutorial(ROOT / "configs" / f"{name}.yaml")
+        result = plan_tutorial(tutorial)
+        view = next(v for v in result.views if v.name == view_name and v.level == "novice")
+        pages = [p for p in lay_out_workbook(tutorial.title, view, tutorial.paper,
+                                             view_label=view.name) if p.kind == "steps"]
+        k = next(k for k, st in enumerate(view.steps) if st.kind == "ellipse" and st.part == part)
+        out.append(pages[k])
+    return tuple(out)
 
 
 def _cyrillic_page():
