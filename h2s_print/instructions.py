@@ -153,14 +153,14 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         per step, ``(sentences, labels)``: one sentence per spec, and ``(letter, point)`` for
         each point it names, in order of first mention.
     """
-    points: list[np.ndarray] = []
+    points: list[tuple[float, float, float]] = []
 
     def find(p: Vec3) -> int:
-        q = np.asarray(p, dtype=float)
-        for i, r in enumerate(points):
-            if float(np.abs(r - q).max()) <= tol:
+        x, y, z = (float(c) for c in p)
+        for i, (rx, ry, rz) in enumerate(points):
+            if abs(rx - x) <= tol and abs(ry - y) <= tol and abs(rz - z) <= tol:
                 return i
-        points.append(q)
+        points.append((x, y, z))
         return len(points) - 1
 
     named: list[list[int]] = []
