@@ -1473,11 +1473,12 @@ def perspective_grid(plan: ViewPlan, frame: Box2) -> list[Polyline]:
 
 
 def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
-                    vertical: bool, avoid: np.ndarray | None = None) -> list[Text] | None:
+                    vertical: bool, avoid: np.ndarray | None = None,
+                    inside: np.ndarray | None = None) -> list[Text] | None:
     """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
     smallest step that keeps it clear of every text and line of :data:`_SHEET_LINES` in
-    ``items`` and of the segments ``avoid``, inside ``frame``; None when no such place is
-    within 60 mm."""
+    ``items``, of the segments ``avoid`` and of the convex polygon ``inside``, inside
+    ``frame``; None when no such place is within 60 mm."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
     arrows = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in _SHEET_LINES])
@@ -1505,6 +1506,8 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                 return False
             if _crossings(arrows, (b[0] - 1.0, b[1] - 0.5, b[2] + 1.0, b[3] + 0.5)):
                 return False
+            if inside is not None and _in_convex(inside, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)):
+                return False
         return True
 
     # along the edge first, then also away from it, nearest first (2 mm steps, up to 60 mm)
@@ -1524,9 +1527,10 @@ _SHEET_LINES = ("vp_arrow", "horizon", "ground")
 
 
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
-          avoid: np.ndarray | None = None) -> bool:
-    """True when ``texts`` lie inside ``frame``, overlap no text already in ``items`` and
-    cross none of the sheet's lines there (:data:`_SHEET_LINES`) nor ``avoid``."""
+          avoid: np.ndarray | None = None, inside: np.ndarray | None = None) -> bool:
+    """True when ``texts`` lie inside ``frame``, overlap no text already in ``items``, cross
+    none of the sheet's lines there (:data:`_SHEET_LINES`) nor ``avoid``, and do not lie in
+    the convex polygon ``inside``."""
     placed = [it.box_mm for it in items if isinstance(it, Text) and it.string]
     lines = _segments([it for it in items if isinstance(it, Polyline)
                        and it.role in _SHEET_LINES])
@@ -1540,7 +1544,31 @@ def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
             return False
         if _crossings(lines, t.box_mm):
             return False
+        if inside is not None and _in_convex(inside, ((x0 + x1) / 2, (y0 + y1) / 2)):
+            return False
     return True
+
+
+def _hull(points: Sequence[Pt]) -> np.ndarray:
+    """The convex hull of ``points``, counter-clockwise (n, 2); empty when degenerate."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    if len(pts) < 3:
+        return np.zeros((0, 2))
+    try:
+        return pts[ConvexHull(pts).vertices]
+    except (QhullError, ValueError):
+        return np.zeros((0, 2))
+
+
+def _in_convex(poly: np.ndarray, p: Pt) -> bool:
+    """Is ``p`` inside the counter-clockwise convex polygon ``poly`` (n >= 3)?"""
+    if len(poly) < 3:
+        return False
+    a, b = poly, np.roll(poly, -1, axis=0)
+    cross = (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
+    return bool((cross >= 0).all())
 
 
 def _corner_offset(v: Pt, frame: Box2) -> str:
@@ -1631,6 +1659,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                       "scale_label"))
     # Labels placed after the VP labels, at the first option that collides with no text.
     shadow = _segments([Polyline(tuple(p)) for p in drawing if len(p) >= 2])
+    # where the learner will draw: the finished drawing's convex outline, its edges and its
+    # inside (a label between the drawing's lines still sits on a surface to be drawn)
+    hull = _hull([q for p in drawing for q in p])
+    area = (np.vstack([shadow, np.hstack([hull, np.roll(hull, -1, axis=0)])])
+            if len(hull) >= 3 else shadow)
     deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
     # Horizon.
     hl = _horizon(plan)
@@ -1762,20 +1795,22 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         if detail:
             block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
         vertical = edge in ("left", "right")
-        placed = _clear_of_texts(block, items, frame, vertical, shadow)
-        if placed is None:  # no room off the drawing: at least clear of the other labels
+        placed = _clear_of_texts(block, items, frame, vertical, area, hull)
+        if placed is None:  # no room off the drawing: at least off its lines
+            placed = _clear_of_texts(block, items, frame, vertical, shadow)
+        if placed is None:  # nor that: at least clear of the other labels
             placed = _clear_of_texts(block, items, frame, vertical)
         items += placed or block
     for options in deferred:
         # the first position off the drawing; else the first one moved off it; else the same
-        # two clear of the other labels only; else the first
+        # off its lines only; else clear of the other labels only; else the first
         texts, extra = options[0]
-        for avoid in (shadow, None):
-            fit = next((o for o in options if _fits(o[0], items, frame, avoid)), None)
+        for avoid, inside in ((area, hull), (shadow, None), (None, None)):
+            fit = next((o for o in options if _fits(o[0], items, frame, avoid, inside)), None)
             if fit is not None:
                 texts, extra = fit
                 break
-            moved = _clear_of_texts(options[0][0], items, frame, False, avoid)
+            moved = _clear_of_texts(options[0][0], items, frame, False, avoid, inside)
             if moved is not None:
                 texts = moved
                 break

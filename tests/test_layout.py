@@ -718,6 +718,24 @@ def test_sheet_labels_keep_off_the_drawing(examples):
     assert 2 * with_rule < without
 
 
+def test_sheet_labels_keep_off_the_drawings_surfaces():
+    """Between its lines a label still lies where a person will draw (a table top): a label
+    whose middle is inside the drawing's convex outline does not fit where one outside
+    does, and is moved out of it along the frame's edge when there is room."""
+    frame = (0.0, 0.0, 200.0, 150.0)
+    hull = L._hull([(40.0, 30.0), (160.0, 30.0), (160.0, 120.0), (40.0, 120.0), (100.0, 75.0)])
+    assert len(hull) == 4 and L._in_convex(hull, (100.0, 75.0))
+    assert not L._in_convex(hull, (20.0, 75.0))
+    on_top = [L.Text(90.0, 74.0, "bottom face of the top (step 1)", 7, "Helvetica", "start",
+                     "blue", "ground_label")]
+    assert L._fits(on_top, [], frame)
+    assert not L._fits(on_top, [], frame, None, hull)
+    moved = L._clear_of_texts(on_top, [], frame, False, None, hull)
+    assert moved is not None
+    b = moved[0].box_mm
+    assert not L._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2))
+
+
 def test_every_line_style_of_a_step_picture_has_a_key(examples):
     """The key under a step explains every style its picture uses: the new part's hidden
     edges (dotted orange) were read as new guides when the key had no entry for them."""
