@@ -215,56 +215,81 @@ def _sample_surface(part: Part, n: int) -> tuple[np.ndarray, np.ndarray]:
 # ----------------------------------------------------------------------------- signed distances
 
 
-def _combine(d: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _combine(d: np.ndarray, faces: list | None, n_params: int):
     """Signed distance and its gradient from k face distances of a convex solid.
 
     Args:
         d: (n, k) signed distances to the solid's faces (or orthogonal face families).
-        g: (n, k, p) their gradients with respect to the p parameters.
+        faces: per face, the gradient's nonzero columns: ``(parameter index, (n,) array or
+            constant)`` pairs, each parameter in exactly one face (a box's centre and
+            half-size along x move its x faces only); None: the distance only.
+        n_params: the number p of parameters.
 
     Returns:
         sdf: (n,) the largest face distance inside, the root-sum-square of the positive ones
-        outside; jac: (n, p) its gradient.
+        outside; jac: (n, p) its gradient (None without ``faces``).
+
+    The gradient is outside ``sum_k w_k g_k`` (``w_k`` the positive part of ``d_k`` over the
+    sdf) and inside the largest face's ``g_k``.  Each parameter having one face, it is built
+    column by column, never as the dense (n, k, p) gradients, bit for bit as the dense sum
+    (a numpy ``einsum`` from zero) gives it: outside ``w_k g_kj + 0.0`` (the other faces add
+    zeros; a sum of zeros from +0 is +0), inside ``g_kj`` where face k is the largest (its
+    zero's sign kept) and +0 elsewhere; both as ``coef * g_kj + zero`` with ``zero`` -0.0
+    where ``g_kj`` is kept (``x + -0.0`` is ``x``, for ``x = -0.0`` too), else +0.0 (the
+    gradients are finite, so ``0 g`` is a zero).  tests/test_fit.py compares it with the
+    dense form.  Measured (2 cores, 2026-11-24, every axis of every part of the camera, mixer,
+    train, desk and oven): the frustum solves 1.51 -> 1.04 s, the cylinders' 0.72 -> 0.60 s,
+    the cuboids' 0.27 -> 0.21 s (the rest is the solver's own work, its SVDs foremost).
     """
     pos = np.maximum(d, 0.0)
-    out = np.sqrt((pos * pos).sum(axis=1))
+    sq = pos * pos
+    total = sq[:, 0]
+    for k in range(1, sq.shape[1]):  # in face order, as numpy sums a row (5x faster here)
+        total = total + sq[:, k]
+    out = np.sqrt(total)
     outside = out > 0.0
     rows = np.arange(len(d))
     idx = d.argmax(axis=1)
     sdf = np.where(outside, out, d[rows, idx])
+    if faces is None:
+        return sdf, None
     w = pos / np.where(outside, out, 1.0)[:, None]
-    jac = np.where(outside[:, None], np.einsum("nk,nkp->np", w, g), g[rows, idx])
+    jac = np.empty((len(d), n_params))
+    for k, cols in enumerate(faces):
+        largest = idx == k
+        coef = np.where(outside, w[:, k], largest)
+        zero = np.where(outside | ~largest, 0.0, -0.0)
+        for j, g in cols:
+            col = jac[:, j]
+            np.multiply(coef, g, out=col)
+            col += zero
     return sdf, jac
 
 
-def _box_parts(p: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Box faces; x = (centre xyz, half xyz), p (n, 3)."""
+def _box_parts(p: np.ndarray, x: np.ndarray, grad: bool = True):
+    """Box faces; x = (centre xyz, half xyz), p (n, 3); gradients as :func:`_combine` takes
+    them (None if not ``grad``)."""
     rel = p - x[:3]
-    sgn = np.sign(rel)
     d = np.abs(rel) - np.abs(x[3:])
-    g = np.zeros((len(p), 3, 6))
-    for k in range(3):
-        g[:, k, k] = -sgn[:, k]
-        g[:, k, 3 + k] = -(np.sign(x[3 + k]) or 1.0)
-    return d, g
+    if not grad:
+        return d, None
+    sgn = np.sign(rel)
+    return d, [((k, -sgn[:, k]), (3 + k, -(np.sign(x[3 + k]) or 1.0))) for k in range(3)]
 
 
-def _cylinder_parts(u, v, h, x) -> tuple[np.ndarray, np.ndarray]:
+def _cylinder_parts(u, v, h, x, grad: bool = True):
     """Closed cylinder: mantle and caps; x = (cu, cv, r, hc, hh), axis coordinate h."""
     cu, cv, r, hc, hh = x
     du, dv = u - cu, v - cv
     rho = np.maximum(np.hypot(du, dv), 1e-15)
     d = np.stack([rho - abs(r), np.abs(h - hc) - abs(hh)], axis=1)
-    g = np.zeros((len(u), 2, 5))
-    g[:, 0, 0] = -du / rho
-    g[:, 0, 1] = -dv / rho
-    g[:, 0, 2] = -(np.sign(r) or 1.0)
-    g[:, 1, 3] = -np.sign(h - hc)
-    g[:, 1, 4] = -(np.sign(hh) or 1.0)
-    return d, g
+    if not grad:
+        return d, None
+    return d, [((0, -du / rho), (1, -dv / rho), (2, -(np.sign(r) or 1.0))),
+               ((3, -np.sign(h - hc)), (4, -(np.sign(hh) or 1.0)))]
 
 
-def _frustum_parts(u, v, h, x, s0: float, s1: float) -> tuple[np.ndarray, np.ndarray]:
+def _frustum_parts(u, v, h, x, s0: float, s1: float, grad: bool = True):
     """Frustum: two side-plane pairs (|u|, |v| folded) and two caps.
 
     x = (cu, cv, hu0, hv0, hu1, hv1, lo, hi): centre line, the side planes' half-sizes at the
@@ -275,40 +300,40 @@ def _frustum_parts(u, v, h, x, s0: float, s1: float) -> tuple[np.ndarray, np.nda
     cu, cv, hu0, hv0, hu1, hv1, lo, hi = x
     length = s1 - s0
     w = h - s0
-    n = len(u)
-    d = np.empty((n, 4))
-    g = np.zeros((n, 4, 8))
+    d = np.empty((len(u), 4))
+    faces = []
     for col, (c, h0, h1, coord) in enumerate(((cu, hu0, hu1, u), (cv, hv0, hv1, v))):
-        i_c, i_0, i_1 = col, 2 + col, 4 + col
         rel = coord - c
         slope = (h1 - h0) / length
         k = 1.0 / math.sqrt(1.0 + slope * slope)
         num = np.abs(rel) - h0 - slope * w
         d[:, col] = num * k
-        dk = -slope * k ** 3  # d k / d slope
-        g[:, col, i_c] = -np.sign(rel) * k
-        g[:, col, i_0] = k * (w / length - 1.0) - num * dk / length
-        g[:, col, i_1] = -k * w / length + num * dk / length
+        if grad:
+            dk = -slope * k ** 3  # d k / d slope
+            faces.append(((col, -np.sign(rel) * k),
+                          (2 + col, k * (w / length - 1.0) - num * dk / length),
+                          (4 + col, -k * w / length + num * dk / length)))
     d[:, 2] = lo - h
-    g[:, 2, 6] = 1.0
     d[:, 3] = h - hi
-    g[:, 3, 7] = -1.0
-    return d, g
+    return d, (faces + [((6, 1.0),), ((7, -1.0),)] if grad else None)
 
 
-def _sdf_box(p, x):
-    """Signed distance to the box (negative inside) and its gradient; see :func:`_box_parts`."""
-    return _combine(*_box_parts(p, x))
+def _sdf_box(p, x, grad: bool = True):
+    """Signed distance to the box (negative inside) and its gradient; see :func:`_box_parts`.
+
+    ``grad=False``: the distance only, gradient None (a score after the solve needs no more).
+    """
+    return _combine(*_box_parts(p, x, grad), 6)
 
 
-def _sdf_cylinder(u, v, h, x):
+def _sdf_cylinder(u, v, h, x, grad: bool = True):
     """Signed distance to the closed cylinder and its gradient (exact)."""
-    return _combine(*_cylinder_parts(u, v, h, x))
+    return _combine(*_cylinder_parts(u, v, h, x, grad), 5)
 
 
-def _sdf_frustum(u, v, h, x, s0: float, s1: float):
+def _sdf_frustum(u, v, h, x, s0: float, s1: float, grad: bool = True):
     """Signed distance to the frustum and its gradient (exact inside, approximate outside)."""
-    return _combine(*_frustum_parts(u, v, h, x, s0, s1))
+    return _combine(*_frustum_parts(u, v, h, x, s0, s1, grad), 8)
 
 
 # ----------------------------------------------------------------------------- single fits
@@ -369,7 +394,7 @@ def _fit_cuboid(p: np.ndarray, half: np.ndarray) -> float:
     bound = half + ENCLOSE
     y = _solve(lambda x: _sdf_box(p, x), to_x, np.concatenate([p.min(axis=0), p.max(axis=0)]),
                np.concatenate([-bound, -bound]), np.concatenate([bound, bound]))
-    return _rms(_sdf_box(p, to_x(y)[0])[0])
+    return _rms(_sdf_box(p, to_x(y)[0], grad=False)[0])
 
 
 def _circle_init(u: np.ndarray, v: np.ndarray, side: np.ndarray) -> tuple[float, float, float]:
@@ -431,7 +456,7 @@ def _fit_cylinder(p: np.ndarray, n: np.ndarray, axis: int,
                np.array([1.0, 1.0, min(bu, bv), chi, chi]))
     x = to_x(y)[0]
     x[4] = abs(x[4])
-    return _rms(_sdf_cylinder(u, v, h, x)[0]), x
+    return _rms(_sdf_cylinder(u, v, h, x, grad=False)[0]), x
 
 
 def _taper_init(w: np.ndarray, t: np.ndarray, sel: np.ndarray,
@@ -496,7 +521,7 @@ def _fit_frustum(p: np.ndarray, n: np.ndarray, axis: int,
     x = to_x(y)[0]
     if x[7] < x[6]:  # keep lo <= hi (the optimiser is free to swap the caps' names)
         x[6], x[7] = x[7], x[6]
-    return _rms(_sdf_frustum(u, v, h, x, s0, s1)[0]), x
+    return _rms(_sdf_frustum(u, v, h, x, s0, s1, grad=False)[0]), x
 
 
 # ----------------------------------------------------------------------------- the stage
@@ -514,6 +539,27 @@ class _Fit(NamedTuple):
     rejected: str | None = None  #: why this fit may not be reported (*Admissible*), or None
 
 
+class _Samples(NamedTuple):
+    """A part's surface samples in the normalised frame, and how to map back to model units."""
+
+    bbox: Box  #: the part's bounding box, model units
+    diag: float  #: its diagonal, model units
+    centre: np.ndarray  #: its centre, model units
+    p: np.ndarray  #: (n, 3) samples, normalised: residuals are already diagonal units
+    normals: np.ndarray  #: (n, 3) unit normals of the triangles they lie on
+    half: np.ndarray  #: the bounding box's half-sizes, normalised
+
+
+def _samples(part: Part, n_samples: int) -> _Samples:
+    """The part's samples in the normalised frame (module docstring, *Samples*)."""
+    bbox = part.box
+    diag = box_diagonal(bbox)
+    centre = (np.array(bbox[0]) + np.array(bbox[1])) / 2
+    raw, normals = _sample_surface(part, n_samples)
+    half = (np.array(bbox[1]) - np.array(bbox[0])) / 2 / diag
+    return _Samples(bbox, diag, centre, (raw - centre) / diag, normals, half)
+
+
 def _enclose(lo: float, hi: float, part_lo: float, part_hi: float) -> tuple[float, float]:
     """Grow ``[lo, hi]`` so that each end is at most :data:`ENCLOSE` inside the part's."""
     return min(lo, part_lo + ENCLOSE), max(hi, part_hi - ENCLOSE)
@@ -524,83 +570,102 @@ def _excess(lo: np.ndarray, hi: np.ndarray, half: np.ndarray) -> float:
     return float(max(np.max(-half - lo), np.max(hi - half), 0.0))
 
 
-def _all_fits(part: Part, n_samples: int) -> list[_Fit]:
-    """Every type on every axis fitted to the part's samples (module docstring, *Boxes*)."""
-    bbox = part.box
-    diag = box_diagonal(bbox)
-    centre = (np.array(bbox[0]) + np.array(bbox[1])) / 2
-    raw, normals = _sample_surface(part, n_samples)
-    p = (raw - centre) / diag  # normalised frame: residuals are already diagonal units
-    half = (np.array(bbox[1]) - np.array(bbox[0])) / 2 / diag  # the bounding box, normalised
+def _outside(s: _Samples, lo: np.ndarray, hi: np.ndarray) -> str | None:
+    """Why the normalised box ``[lo, hi]`` is not admissible (too far out), or None."""
+    excess = _excess(lo, hi, s.half)
+    return None if excess <= INSIDE else f"box leaves the bounding box by {excess:.4f}"
 
-    def to_model(q: np.ndarray) -> np.ndarray:
-        return np.asarray(q) * diag + centre
 
-    def outside(lo: np.ndarray, hi: np.ndarray) -> str | None:
-        excess = _excess(lo, hi, half)
-        return None if excess <= INSIDE else f"box leaves the bounding box by {excess:.4f}"
+def _model_box(s: _Samples, lo: np.ndarray, hi: np.ndarray) -> Box:
+    """The normalised box ``[lo, hi]`` in model units."""
+    return as_box(lo * s.diag + s.centre, hi * s.diag + s.centre)
 
-    fits: list[_Fit] = []
+
+def _plane_fits(s: _Samples) -> list[_Fit]:
+    """The plane on every axis; its box is the bounding box (module docstring, *Boxes*)."""
+    fits = []
     for axis in range(3):
-        res, det = _fit_plane(p, axis)
-        fits.append(_Fit("plane", axis, res, res, bbox,
-                         {"offset": float(det["offset"] * diag + centre[axis])}))
-    # cuboid: least squares scores the shape, the bounding box is the primitive
-    score = _fit_cuboid(p, half)
-    res = _rms(_sdf_box(p, np.concatenate([np.zeros(3), half]))[0])
-    fits.append(_Fit("cuboid", None, score, res, bbox, {}))
-    for axis in range(3):
-        iu, iv = _others(axis)
-        score, x = _fit_cylinder(p, normals, axis, half)
-        cu, cv, r, hc, hh = x
-        # grow the circle's square and the caps to enclose the part (module docstring)
-        (ulo, uhi), (vlo, vhi) = (_enclose(c - r, c + r, -half[k], half[k])
-                                  for c, k in ((cu, iu), (cv, iv)))
-        cu, cv, r = (ulo + uhi) / 2, (vlo + vhi) / 2, max(uhi - ulo, vhi - vlo) / 2
-        hlo, hhi = _enclose(hc - hh, hc + hh, -half[axis], half[axis])
-        x = np.array([cu, cv, r, (hlo + hhi) / 2, (hhi - hlo) / 2])
-        res = _rms(_sdf_cylinder(p[:, iu], p[:, iv], p[:, axis], x)[0])
-        lo, hi = np.zeros(3), np.zeros(3)
-        lo[[iu, iv, axis]] = (cu - r, cv - r, hlo)
-        hi[[iu, iv, axis]] = (cu + r, cv + r, hhi)
-        fits.append(_Fit("cylinder", axis, score, res, as_box(to_model(lo), to_model(hi)), {
-            "radius": float(r * diag),
-            "centre": [float(cu * diag + centre[iu]), float(cv * diag + centre[iv])],
-        }, outside(lo, hi)))
-    for axis in range(3):
-        iu, iv = _others(axis)
-        if half[axis] < SLAB * min(half[iu], half[iv]):
-            continue  # a thin slab along this axis is never a frustum
-        s0, s1 = -half[axis], half[axis]
-        score, x = _fit_frustum(p, normals, axis, half)
-        cu, cv, hu0, hv0, hu1, hv1, flo, fhi = x
-        # the caps move out to enclose the part; the end rectangles are the fitted side planes
-        # there; then both ends grow in proportion (the taper is kept) to enclose it across
-        flo, fhi = _enclose(flo, fhi, s0, s1)
-        ends = [[h0 + (h1 - h0) * (cap - s0) / (s1 - s0) for cap in (flo, fhi)]
-                for h0, h1 in ((hu0, hu1), (hv0, hv1))]
-        grown = []
-        for c, (e0, e1), k in ((cu, ends[0], iu), (cv, ends[1], iv)):
-            m = max(e0, e1, 1e-12)
-            elo, ehi = _enclose(c - m, c + m, -half[k], half[k])
-            g = (ehi - elo) / 2 / m
-            grown.append(((elo + ehi) / 2, e0 * g, e1 * g))
-        (cu, hu0, hu1), (cv, hv0, hv1) = grown
-        mu, mv = max(hu0, hu1), max(hv0, hv1)
-        x = np.array([cu, cv, hu0, hv0, hu1, hv1, flo, fhi])
-        res = _rms(_sdf_frustum(p[:, iu], p[:, iv], p[:, axis], x, flo, fhi)[0])
-        lo, hi = np.zeros(3), np.zeros(3)
-        lo[[iu, iv, axis]] = (cu - mu, cv - mv, flo)
-        hi[[iu, iv, axis]] = (cu + mu, cv + mv, fhi)
-        # a real taper: one side pair's smaller end at most (1 - TAPER) of its larger end
-        ratio = min(min(hu0, hu1) / max(mu, 1e-12), min(hv0, hv1) / max(mv, 1e-12))
-        rejected = (outside(lo, hi) or
-                    (None if ratio <= 1.0 - TAPER else f"no real taper (ends ratio {ratio:.3f})"))
-        fits.append(_Fit("frustum", axis, score, res, as_box(to_model(lo), to_model(hi)), {
-            "lo_half": [float(hu0 * diag), float(hv0 * diag)],
-            "hi_half": [float(hu1 * diag), float(hv1 * diag)],
-            "centre": [float(cu * diag + centre[iu]), float(cv * diag + centre[iv])],
-        }, rejected))
+        res, det = _fit_plane(s.p, axis)
+        fits.append(_Fit("plane", axis, res, res, s.bbox,
+                         {"offset": float(det["offset"] * s.diag + s.centre[axis])}))
+    return fits
+
+
+def _cuboid_fit(s: _Samples) -> _Fit:
+    """The cuboid: least squares scores the shape, the bounding box is the primitive."""
+    res = _rms(_sdf_box(s.p, np.concatenate([np.zeros(3), s.half]), grad=False)[0])
+    return _Fit("cuboid", None, _fit_cuboid(s.p, s.half), res, s.bbox, {})
+
+
+def _cylinder_fit(s: _Samples, axis: int) -> _Fit:
+    """The cylinder on ``axis``, its fitted box grown to enclose the part (*Boxes*)."""
+    p, half = s.p, s.half
+    iu, iv = _others(axis)
+    score, x = _fit_cylinder(p, s.normals, axis, half)
+    cu, cv, r, hc, hh = x
+    # grow the circle's square and the caps to enclose the part (module docstring)
+    (ulo, uhi), (vlo, vhi) = (_enclose(c - r, c + r, -half[k], half[k])
+                              for c, k in ((cu, iu), (cv, iv)))
+    cu, cv, r = (ulo + uhi) / 2, (vlo + vhi) / 2, max(uhi - ulo, vhi - vlo) / 2
+    hlo, hhi = _enclose(hc - hh, hc + hh, -half[axis], half[axis])
+    x = np.array([cu, cv, r, (hlo + hhi) / 2, (hhi - hlo) / 2])
+    res = _rms(_sdf_cylinder(p[:, iu], p[:, iv], p[:, axis], x, grad=False)[0])
+    lo, hi = np.zeros(3), np.zeros(3)
+    lo[[iu, iv, axis]] = (cu - r, cv - r, hlo)
+    hi[[iu, iv, axis]] = (cu + r, cv + r, hhi)
+    return _Fit("cylinder", axis, score, res, _model_box(s, lo, hi), {
+        "radius": float(r * s.diag),
+        "centre": [float(cu * s.diag + s.centre[iu]), float(cv * s.diag + s.centre[iv])],
+    }, _outside(s, lo, hi))
+
+
+def _frustum_fit(s: _Samples, axis: int) -> _Fit | None:
+    """The frustum on ``axis``, its fitted box grown to enclose the part (*Boxes*); None on a
+    thin slab along ``axis`` (never a frustum there)."""
+    p, half = s.p, s.half
+    iu, iv = _others(axis)
+    if half[axis] < SLAB * min(half[iu], half[iv]):
+        return None
+    s0, s1 = -half[axis], half[axis]
+    score, x = _fit_frustum(p, s.normals, axis, half)
+    cu, cv, hu0, hv0, hu1, hv1, flo, fhi = x
+    # the caps move out to enclose the part; the end rectangles are the fitted side planes
+    # there; then both ends grow in proportion (the taper is kept) to enclose it across
+    flo, fhi = _enclose(flo, fhi, s0, s1)
+    ends = [[h0 + (h1 - h0) * (cap - s0) / (s1 - s0) for cap in (flo, fhi)]
+            for h0, h1 in ((hu0, hu1), (hv0, hv1))]
+    grown = []
+    for c, (e0, e1), k in ((cu, ends[0], iu), (cv, ends[1], iv)):
+        m = max(e0, e1, 1e-12)
+        elo, ehi = _enclose(c - m, c + m, -half[k], half[k])
+        g = (ehi - elo) / 2 / m
+        grown.append(((elo + ehi) / 2, e0 * g, e1 * g))
+    (cu, hu0, hu1), (cv, hv0, hv1) = grown
+    mu, mv = max(hu0, hu1), max(hv0, hv1)
+    x = np.array([cu, cv, hu0, hv0, hu1, hv1, flo, fhi])
+    res = _rms(_sdf_frustum(p[:, iu], p[:, iv], p[:, axis], x, flo, fhi,
+                             grad=False)[0])
+    lo, hi = np.zeros(3), np.zeros(3)
+    lo[[iu, iv, axis]] = (cu - mu, cv - mv, flo)
+    hi[[iu, iv, axis]] = (cu + mu, cv + mv, fhi)
+    # a real taper: one side pair's smaller end at most (1 - TAPER) of its larger end
+    ratio = min(min(hu0, hu1) / max(mu, 1e-12), min(hv0, hv1) / max(mv, 1e-12))
+    rejected = (_outside(s, lo, hi) or
+                (None if ratio <= 1.0 - TAPER else f"no real taper (ends ratio {ratio:.3f})"))
+    return _Fit("frustum", axis, score, res, _model_box(s, lo, hi), {
+        "lo_half": [float(hu0 * s.diag), float(hv0 * s.diag)],
+        "hi_half": [float(hu1 * s.diag), float(hv1 * s.diag)],
+        "centre": [float(cu * s.diag + s.centre[iu]), float(cv * s.diag + s.centre[iv])],
+    }, rejected)
+
+
+def _solid_fits(s: _Samples, known: _Fit | None = None) -> list[_Fit]:
+    """The cuboid, the cylinder on every axis and the frustum on every axis but a slab's, in
+    that order; ``known``, a cylinder already fitted, is reused on its axis."""
+    fits = [_cuboid_fit(s)]
+    fits += [known if known is not None and known.axis == axis else _cylinder_fit(s, axis)
+             for axis in range(3)]
+    fits += [f for f in (_frustum_fit(s, axis) for axis in range(3)) if f is not None]
     return fits
 
 
@@ -628,8 +693,77 @@ class FitSettings:
             raise ValueError(f"n_samples must be at least 16, got {self.n_samples}")
 
 
+def _is_slab(part: Part, plane: _Fit, settings: FitSettings) -> bool:
+    """Rule 1: the effective thickness (twice the RMS distance to the mid-plane) is at most
+    ``plane_thickness`` of the smaller in-plane extent."""
+    size = np.subtract(part.box[1], part.box[0])
+    side = min(float(size[k]) for k in _others(plane.axis))
+    return 2.0 * plane.score * box_diagonal(part.box) <= settings.plane_thickness * side
+
+
+def _choose(part: Part, fits: list[_Fit], round_axis: int | None,
+            settings: FitSettings) -> Primitive:
+    """The primitive the rules pick (module docstring, *Choice*) from every fit of every type
+    on every axis (``fits``, as :func:`_plane_fits` and :func:`_solid_fits` list them), with
+    ``round_axis`` the axis :func:`_round_hull` finds (None for a thin slab)."""
+    for f in fits:
+        if f.rejected is not None:
+            log.debug("part %s: %s axis %s (score %.5f) not admissible: %s", part.name, f.kind,
+                      f.axis, f.score, f.rejected)
+    # best admissible axis per type (ties: lowest axis, as listed); the plane and the cuboid
+    # (the bounding box) are always admissible, so every rule below has a candidate
+    best: dict[str, _Fit] = {}
+    for f in fits:
+        if f.rejected is None and (f.kind not in best or f.score < best[f.kind].score):
+            best[f.kind] = f
+    least = min(f.score for f in best.values())
+    hull_cylinder = next((f for f in fits if f.kind == "cylinder" and f.axis == round_axis
+                          and f.rejected is None), None)
+    if _is_slab(part, best["plane"], settings):  # rule 1: the thin slab
+        chosen = best["plane"]
+    elif hull_cylinder is not None:  # rule 1b: its outside is a cylinder (a ring, a tube)
+        chosen = hull_cylinder
+    else:  # rule 2: least residual, the simpler solid winning near-ties
+        solids = [best[t] for t in ("cuboid", "cylinder", "frustum") if t in best]
+        least_solid = min(f.score for f in solids)
+        chosen = min((f for f in solids
+                      if f.score <= (1.0 + settings.tie_tolerance) * least_solid + _EXACT),
+                     key=lambda f: SIMPLICITY[f.kind])
+    if least > settings.custom_above and chosen is not hull_cylinder:
+        nearest = min(best.values(), key=lambda f: (f.score, SIMPLICITY[f.kind])).kind
+        log.info("part %s: best fit %s misses by %.4f of its diagonal: custom",
+                 part.name, nearest, least)
+        return Primitive(part.name, "custom", None, part.box, float(best["cuboid"].residual),
+                         {"nearest": nearest})
+    return _reported(part, chosen)
+
+
+def _reported(part: Part, chosen: _Fit) -> Primitive:
+    """The chosen fit as the primitive reported, round plates and frusta marked."""
+    log.debug("part %s: %s axis %s score %.5f residual %.5f", part.name, chosen.kind,
+              chosen.axis, chosen.score, chosen.residual)
+    detail = dict(chosen.detail)
+    if chosen.kind == "plane" and _round_outline(part, chosen.axis):
+        detail["round"] = True  # a disc, a round plate or top: it carries its ellipse
+    elif chosen.kind == "frustum" and _round_frustum(part, chosen.axis, detail):
+        detail["round"] = True  # a bowl, a cup, a lamp shade: an ellipse on each end
+    return Primitive(part.name, chosen.kind, chosen.axis, chosen.box, float(chosen.residual),
+                     detail)
+
+
 def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitive:
     """Fit the scaffolding primitive of one part (see the module docstring for the rules).
+
+    The result is :func:`_choose` over every type on every axis, but the solids are fitted
+    only when they can change it (the bounded least-squares solves are most of the stage's
+    time).  They cannot for a thin slab whose plane scores at most ``custom_above`` (rule 1
+    picks the plane, and the least score of all, at most the plane's, does not make it
+    custom), nor for a part whose convex hull is a cylinder admissible on its axis (rule 1b
+    picks it whatever the other scores, and never makes it custom): only that cylinder is
+    fitted.  Measured (2 cores, 2026-11-24): 10 of the train's 15 parts and 2 of the camera's
+    6 are such cylinders; with the column-wise gradients (:func:`_combine`) the stage takes
+    (medians of 3) 0.30 -> 0.11 s on the camera, 0.41 -> 0.17 the mixer, 0.83 -> 0.10 the
+    train, 0.48 -> 0.10 the roller, 3.17 -> 1.64 s the seven shared models.
 
     Args:
         part: the part; its mesh in model units.
@@ -644,55 +778,19 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
     """
     if len(part.faces) == 0:
         raise ModelError(f"part {part.name!r}: its mesh has no faces to fit a primitive to")
-    bbox = part.box
-    diag = box_diagonal(bbox)
-    if diag <= 0.0:
+    if box_diagonal(part.box) <= 0.0:
         raise ModelError(f"part {part.name!r}: its mesh is a single point")
-    fits = _all_fits(part, settings.n_samples)
-    for f in fits:
-        if f.rejected is not None:
-            log.debug("part %s: %s axis %s (score %.5f) not admissible: %s", part.name, f.kind,
-                      f.axis, f.score, f.rejected)
-    # best admissible axis per type (ties: lowest axis, as listed); the plane and the cuboid
-    # (the bounding box) are always admissible, so every rule below has a candidate
-    best: dict[str, _Fit] = {}
-    for f in fits:
-        if f.rejected is None and (f.kind not in best or f.score < best[f.kind].score):
-            best[f.kind] = f
-    least = min(f.score for f in best.values())
-    # rule 1: the thin slab (effective thickness = twice the RMS distance to the mid-plane)
-    plane = best["plane"]
-    size = np.subtract(bbox[1], bbox[0])
-    side = min(float(size[k]) for k in _others(plane.axis))
-    round_axis = None if 2.0 * plane.score * diag <= settings.plane_thickness * side \
-        else _round_hull(part)
-    hull_cylinder = next((f for f in fits if f.kind == "cylinder" and f.axis == round_axis
-                          and f.rejected is None), None)
-    if 2.0 * plane.score * diag <= settings.plane_thickness * side:
-        chosen = plane
-    elif hull_cylinder is not None:  # rule 1b: its outside is a cylinder (a ring, a tube)
-        chosen = hull_cylinder
-    else:  # rule 2: least residual, the simpler solid winning near-ties
-        solids = [best[t] for t in ("cuboid", "cylinder", "frustum") if t in best]
-        least_solid = min(f.score for f in solids)
-        chosen = min((f for f in solids
-                      if f.score <= (1.0 + settings.tie_tolerance) * least_solid + _EXACT),
-                     key=lambda f: SIMPLICITY[f.kind])
-    if least > settings.custom_above and chosen is not hull_cylinder:
-        nearest = min(best.values(), key=lambda f: (f.score, SIMPLICITY[f.kind])).kind
-        log.info("part %s: best fit %s misses by %.4f of its diagonal: custom",
-                 part.name, nearest, least)
-        return Primitive(part.name, "custom", None, bbox, float(best["cuboid"].residual),
-                         {"nearest": nearest})
-    log.debug("part %s: %s axis %s score %.5f residual %.5f", part.name, chosen.kind,
-              chosen.axis, chosen.score, chosen.residual)
-    detail = dict(chosen.detail)
-    if chosen.kind == "plane" and _round_outline(part, chosen.axis):
-        detail["round"] = True  # a disc, a round plate or top: it carries its ellipse
-    elif chosen.kind == "frustum" and _round_frustum(part, chosen.axis, detail):
-        detail["round"] = True  # a bowl, a cup, a lamp shade: an ellipse on each end
-    return Primitive(part.name, chosen.kind, chosen.axis, chosen.box, float(chosen.residual),
-                     detail)
+    s = _samples(part, settings.n_samples)
+    planes = _plane_fits(s)
+    plane = min(planes, key=lambda f: f.score)  # ties: the lowest axis, as in _choose
+    slab = _is_slab(part, plane, settings)
+    if slab and plane.score <= settings.custom_above:
+        return _reported(part, plane)
+    round_axis = None if slab else _round_hull(part)
+    hull = None if round_axis is None else _cylinder_fit(s, round_axis)
+    if hull is not None and hull.rejected is None:
+        return _reported(part, hull)
+    return _choose(part, planes + _solid_fits(s, hull), round_axis, settings)
 
 
 #: A plane is round when every corner of its outline's convex hull, scaled to the unit square

@@ -536,3 +536,202 @@ def test_shared_model_boxes_stay_inside_their_parts(shared_models, path, up):
     model = read_path(shared_models / path, up=up)
     for part, prim in zip(model.parts, fit_primitives(model)):
         assert _excess(prim, part) <= INSIDE, (part.name, prim.type, prim.axis)
+
+
+# ----------------------------------------------------------------------------- fast paths
+# The signed distances' gradients are combined per column (fit._combine) and the solids are
+# fitted only when they can change the result (fit.fit_primitive).  Both must give what their
+# definitions give, bit for bit: the dense forms below are the stage's code before it had the
+# fast paths (issue 13).
+
+
+def _dense_combine(d, g):
+    pos = np.maximum(d, 0.0)
+    out = np.sqrt((pos * pos).sum(axis=1))
+    outside = out > 0.0
+    rows = np.arange(len(d))
+    idx = d.argmax(axis=1)
+    sdf = np.where(outside, out, d[rows, idx])
+    w = pos / np.where(outside, out, 1.0)[:, None]
+    jac = np.where(outside[:, None], np.einsum("nk,nkp->np", w, g), g[rows, idx])
+    return sdf, jac
+
+
+def _dense_box(p, x):
+    rel = p - x[:3]
+    sgn = np.sign(rel)
+    d = np.abs(rel) - np.abs(x[3:])
+    g = np.zeros((len(p), 3, 6))
+    for k in range(3):
+        g[:, k, k] = -sgn[:, k]
+        g[:, k, 3 + k] = -(np.sign(x[3 + k]) or 1.0)
+    return _dense_combine(d, g)
+
+
+def _dense_cylinder(u, v, h, x):
+    cu, cv, r, hc, hh = x
+    du, dv = u - cu, v - cv
+    rho = np.maximum(np.hypot(du, dv), 1e-15)
+    d = np.stack([rho - abs(r), np.abs(h - hc) - abs(hh)], axis=1)
+    g = np.zeros((len(u), 2, 5))
+    g[:, 0, 0] = -du / rho
+    g[:, 0, 1] = -dv / rho
+    g[:, 0, 2] = -(np.sign(r) or 1.0)
+    g[:, 1, 3] = -np.sign(h - hc)
+    g[:, 1, 4] = -(np.sign(hh) or 1.0)
+    return _dense_combine(d, g)
+
+
+def _dense_frustum(u, v, h, x, s0, s1):
+    import math
+
+    cu, cv, hu0, hv0, hu1, hv1, lo, hi = x
+    length = s1 - s0
+    w = h - s0
+    n = len(u)
+    d = np.empty((n, 4))
+    g = np.zeros((n, 4, 8))
+    for col, (c, h0, h1, coord) in enumerate(((cu, hu0, hu1, u), (cv, hv0, hv1, v))):
+        i_c, i_0, i_1 = col, 2 + col, 4 + col
+        rel = coord - c
+        slope = (h1 - h0) / length
+        k = 1.0 / math.sqrt(1.0 + slope * slope)
+        num = np.abs(rel) - h0 - slope * w
+        d[:, col] = num * k
+        dk = -slope * k ** 3
+        g[:, col, i_c] = -np.sign(rel) * k
+        g[:, col, i_0] = k * (w / length - 1.0) - num * dk / length
+        g[:, col, i_1] = -k * w / length + num * dk / length
+    d[:, 2] = lo - h
+    g[:, 2, 6] = 1.0
+    d[:, 3] = h - hi
+    g[:, 3, 7] = -1.0
+    return _dense_combine(d, g)
+
+
+def _same_bits(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def _probe_points(rng, n: int, centre) -> np.ndarray:
+    """Samples in and around a primitive, some exactly on its centre lines and faces (where a
+    gradient is -0.0 or a face distance 0) and on a coarse grid (ties between faces)."""
+    p = rng.uniform(-0.6, 0.6, (n, 3))
+    p[: n // 8, :2] = centre[:2]  # on the centre line along z
+    p[n // 8: n // 4] = centre  # at the centre
+    p[n // 4: n // 2] = np.round(p[n // 4: n // 2] * 10) / 10  # on a grid: ties, faces
+    return p
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_signed_distances_and_gradients_are_bit_for_bit_the_dense_ones(seed):
+    from h2s_print.fit import _sdf_box, _sdf_cylinder, _sdf_frustum
+
+    rng = np.random.default_rng(seed)
+    for _ in range(20):
+        centre = np.round(rng.uniform(-0.1, 0.1, 3), 1 if seed % 2 else 12)
+        p = _probe_points(rng, 4000, centre)
+        u, v, h = p.T
+        half = np.round(rng.uniform(0.0, 0.5, 3), 1)  # 0.0 at times: a flat box
+        box = np.concatenate([centre, half * rng.choice([-1.0, 1.0], 3)])
+        hh = rng.choice([0.0, -0.3, 0.4])
+        cyl = np.array([centre[0], centre[1], rng.choice([0.0, 0.3, -0.2]), centre[2], hh])
+        s0, s1 = -0.5, rng.choice([0.3, 0.5])
+        fru = np.concatenate([centre[:2], np.round(rng.uniform(0.0, 0.5, 4), 1),
+                              np.sort(rng.choice([-0.5, -0.2, 0.1, 0.5], 2))])
+        for fast, dense in ((_sdf_box(p, box), _dense_box(p, box)),
+                            (_sdf_cylinder(u, v, h, cyl), _dense_cylinder(u, v, h, cyl)),
+                            (_sdf_frustum(u, v, h, fru, s0, s1),
+                             _dense_frustum(u, v, h, fru, s0, s1))):
+            assert _same_bits(fast[0], dense[0]) and _same_bits(fast[1], dense[1])
+        assert _same_bits(_sdf_box(p, box, grad=False)[0], _dense_box(p, box)[0])
+        assert _sdf_frustum(u, v, h, fru, s0, s1, grad=False)[1] is None
+    # the zeros' signs: the x face's gradient -0.0 at x = 0 is kept where that face is the
+    # largest (inside, at the centre), +0.0 where another face decides (inside and outside)
+    q = np.array([[0.0, 0.0, 0.0], [0.0, 0.25, 0.0], [0.0, 0.5, 0.0]])
+    box = np.array([0.0, 0.0, 0.0, 0.2, 0.3, 0.4])
+    jac = _sdf_box(q, box)[1]
+    assert _same_bits(jac, _dense_box(q, box)[1])
+    assert list(np.signbit(jac[:, 0])) == [True, False, False]
+
+
+def test_solver_steps_see_the_dense_signed_distances(monkeypatch):
+    """Every signed distance the fits evaluate on real parts, gradient included, is the dense
+    form's (the camera's six parts, every type on every axis)."""
+    from h2s_print import fit
+    from h2s_print.config import load_config
+    from h2s_print.load import load_model
+
+    from conftest import CONFIGS
+
+    seen = {"box": 0, "cylinder": 0, "frustum": 0}
+
+    def checked(name, fast, dense):
+        def run(*args, grad=True):
+            got = fast(*args, grad=grad)
+            want = dense(*args)
+            assert _same_bits(got[0], want[0])
+            assert _same_bits(got[1], want[1]) if grad else got[1] is None
+            seen[name] += 1
+            return got
+        return run
+
+    monkeypatch.setattr(fit, "_sdf_box", checked("box", fit._sdf_box, _dense_box))
+    monkeypatch.setattr(fit, "_sdf_cylinder",
+                        checked("cylinder", fit._sdf_cylinder, _dense_cylinder))
+    monkeypatch.setattr(fit, "_sdf_frustum", checked("frustum", fit._sdf_frustum, _dense_frustum))
+    model = load_model(load_config(CONFIGS / "camera.yaml").model)
+    for part in model.parts:
+        s = fit._samples(part, 1000)
+        fit._solid_fits(s)
+    assert min(seen.values()) > 20
+
+
+def _choice_over_every_fit(part, settings):
+    """The primitive the rules pick from every type on every axis (the stage's definition)."""
+    from h2s_print import fit
+
+    s = fit._samples(part, settings.n_samples)
+    planes = fit._plane_fits(s)
+    plane = min(planes, key=lambda f: f.score)
+    round_axis = None if fit._is_slab(part, plane, settings) else fit._round_hull(part)
+    return fit._choose(part, planes + fit._solid_fits(s), round_axis, settings)
+
+
+@pytest.mark.parametrize("shape,settings,skips", [
+    ("disc", FitSettings(n_samples=500), True),  # a thin slab: the plane
+    ("disc", FitSettings(n_samples=500, custom_above=1e-9), False),  # ... not within custom
+    ("ring", FitSettings(n_samples=500), True),  # its hull a cylinder: that cylinder
+    ("dowel", FitSettings(n_samples=500), True),
+    ("oval", FitSettings(n_samples=500), False),  # a round hull, its square box too wide
+    ("bowl", FitSettings(n_samples=500), False),
+    ("box", FitSettings(n_samples=500), False),
+    ("cross", FitSettings(n_samples=500), False),  # custom
+])
+def test_fit_primitive_is_the_choice_over_every_fit(monkeypatch, shape, settings, skips):
+    """fit_primitive fits the solids only when they can change its result: it is the choice
+    over every fit, bit for bit, with the solids skipped exactly for a thin slab within
+    ``custom_above`` and a part whose hull is an admissible cylinder."""
+    from h2s_print import fit
+
+    mesh = {
+        "disc": lambda: trimesh.creation.cylinder(1.0, 0.02, sections=64),
+        "ring": lambda: trimesh.creation.annulus(r_min=0.7, r_max=1.0, height=0.3, sections=64),
+        "dowel": lambda: trimesh.creation.cylinder(0.5, 10.0, sections=32),
+        "oval": lambda: trimesh.creation.cylinder(1.0, 1.0, sections=64).apply_scale((1.2, 1, 1)),
+        "bowl": lambda: _truncated(_ring(1.0, 64), _ring(2.0, 64)),
+        "box": lambda: trimesh.creation.box((1.0, 2.0, 3.0)),
+        "cross": lambda: trimesh.util.concatenate([trimesh.creation.box(e) for e in
+                                                   ((3, 0.5, 0.5), (0.5, 3, 0.5), (0.5, 0.5, 3))]),
+    }[shape]()
+    part = _part(*_as_arrays(mesh))
+    want = _choice_over_every_fit(part, settings)
+    original, calls = fit._solid_fits, []
+
+    def counted(*args):
+        calls.append(args)
+        return original(*args)
+    monkeypatch.setattr(fit, "_solid_fits", counted)
+    assert repr(fit_primitive(part, settings)) == repr(want)
+    assert (not calls) == skips
