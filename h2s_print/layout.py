@@ -1150,35 +1150,81 @@ def _instruction(x: float, top: float, width: float, step: Step, size: float
 
 def _erase_hint(plan: ViewPlan, i: int) -> str:
     """The step's "you may erase ..." line (empty when nothing retires): the lines by their
-    letters ("Afterwards you may erase AC, BD and FG.") when both ends of each are lettered on
+    letters ("Afterwards you may erase AC, BD and FG.") when the ends of each are lettered on
     this step's picture, else their number and where to see which (the next picture no
-    longer shows them)."""
-    extra = _erasable(plan, i)
-    if extra == 0:
+    longer shows them).  A guide that runs along an edge of the scaffold is erased only
+    beyond it (the mixer's KU along the column's edge KL is "LU"), and not at all when it
+    lies on the edge whole (:func:`_off_edges`)."""
+    if _erasable(plan, i) == 0:
         return ""
     later = {g.id for g, _ in _step_guides(plan, i + 1)}
-    names: list[str] = []
+    edges = _edge_segments(plan, i)
+    names: list[str | None] = []
     for g, _ in _step_guides(plan, i):
         if g.id in later:
             continue
-        name = _letters_of(plan.steps[i], g)
-        if name is None:
-            return plain_text(templates.plural("pages", "step.erase", extra))
-        if name not in names:
+        pieces = _off_edges(g, edges)
+        if not pieces:
+            continue  # an edge of the drawing itself: nothing to erase
+        name = _letters_at(plan.steps[i], pieces[0]) if len(pieces) == 1 else None
+        if name not in names or name is None:
             names.append(name)
+    if not names:
+        return ""
+    if None in names:
+        return plain_text(templates.plural("pages", "step.erase", len(names)))
     join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
-    lines = names[0] if len(names) == 1 else join.join(names[:-1]) + last + names[-1]
+    said = [n for n in names if n is not None]
+    lines = said[0] if len(said) == 1 else join.join(said[:-1]) + last + said[-1]
     return plain_text(templates.text("pages", "step.erase_named", lines=lines))
 
 
-def _letters_of(step: Step, guide: Guide) -> str | None:
-    """The guide's name on the step's picture ("AC"): the letters at its two ends, or None
+#: A guide's piece lies along a scaffold edge when both ends of the edge's segment are this
+#: close to the guide's line (sheet mm) ...
+ON_EDGE_MM = 0.05
+#: ... and a piece left over shorter than this is not a line to erase (sheet mm).
+ERASE_MIN_MM = 0.5
+
+
+def _edge_segments(plan: ViewPlan, i: int) -> np.ndarray:
+    """(n, 4) segments of the scaffold edges drawn by step ``i`` (0-based), sheet mm."""
+    segs = [np.hstack([p[:-1], p[1:]]) for st in plan.steps[:i + 1] for s in st.strokes
+            if s.kind in ("scaffold", "scaffold_hidden")
+            for p in (np.asarray(s.points_mm, dtype=float),) if len(p) > 1]
+    return np.vstack(segs) if segs else np.zeros((0, 4))
+
+
+def _off_edges(guide: Guide, edges: np.ndarray) -> list[tuple[Pt, Pt]]:
+    """The pieces of ``guide`` (sheet mm) that no scaffold edge covers, in order."""
+    a, b = np.asarray(guide.from_mm, dtype=float), np.asarray(guide.to_mm, dtype=float)
+    d = b - a
+    length = float(math.hypot(*d))
+    if length < ERASE_MIN_MM:
+        return []
+    n = np.array([-d[1], d[0]]) / length
+    spans = []
+    if len(edges):
+        p, q = edges[:, :2], edges[:, 2:]
+        on = (np.abs((p - a) @ n) <= ON_EDGE_MM) & (np.abs((q - a) @ n) <= ON_EDGE_MM)
+        tp, tq = ((p[on] - a) @ d) / length ** 2, ((q[on] - a) @ d) / length ** 2
+        spans = sorted((max(min(x, y), 0.0), min(max(x, y), 1.0)) for x, y in zip(tp, tq)
+                       if max(x, y) > 0.0 and min(x, y) < 1.0)
+    pieces, at = [], 0.0
+    for lo, hi in spans + [(1.0, 1.0)]:
+        if (lo - at) * length >= ERASE_MIN_MM:
+            pieces.append(((float(a[0] + at * d[0]), float(a[1] + at * d[1])),
+                           (float(a[0] + lo * d[0]), float(a[1] + lo * d[1]))))
+        at = max(at, hi)
+    return pieces
+
+
+def _letters_at(step: Step, piece: tuple[Pt, Pt]) -> str | None:
+    """The piece's name on the step's picture ("AC"): the letters at its two ends, or None
     when an end is not a lettered point there."""
     out = ""
-    for end in (guide.from3d, guide.to3d):
-        tol = 1e-9 * (1.0 + max(abs(c) for c in end))
+    for end in piece:
         hit = next((lb.name for lb in step.labels
-                    if lb.kind == "point" and math.dist(lb.at3d, end) <= tol), None)
+                    if lb.kind == "point" and math.dist(lb.at_mm, end) <= ON_EDGE_MM), None)
         if hit is None:
             return None
         out += hit

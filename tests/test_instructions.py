@@ -606,12 +606,22 @@ def test_an_uneven_row_keeps_its_copies_where_the_picture_shows_them(tmp_path):
     assert {"knob_1", "knob_2", "knob_3", "knob_4"} <= drawn
 
 
+def _on_segment(p, a, b, tol=0.05):
+    """Is sheet point ``p`` on segment ``a-b`` (within ``tol`` mm)?"""
+    p, a, b = (np.asarray(x, dtype=float) for x in (p, a, b))
+    d = b - a
+    t = float(np.clip((p - a) @ d / max(float(d @ d), 1e-18), 0.0, 1.0))
+    return float(np.linalg.norm(a + t * d - p)) <= tol
+
+
 def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
     """"Afterwards you may erase AB and DE.": each name is two lettered points of the step's
-    picture joined by a guide the step shows (its own, reused or kept) that the next step no
-    longer shows, and the names count every such guide; otherwise the hint gives the count
-    and says the next picture no longer shows them."""
-    named = counted = 0
+    picture on a guide the step shows (its own, reused or kept) that the next step no longer
+    shows, the piece between them on no edge of the scaffold (a guide extending an edge is
+    erased beyond it only); each such guide is named once, and one lying on an edge whole
+    not at all.  Otherwise the hint gives that count and says the next picture no longer
+    shows them."""
+    named = counted = edged = 0
     for name, (t, plan, views) in examples.items():
         for (view, level), vp in views.items():
             if level not in ("novice", "apprentice"):
@@ -625,26 +635,48 @@ def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
                             shown.setdefault(gid, g)
                             break
                 nxt = vp.steps[i + 1]
-                gone = {gid: g for gid, g in shown.items()
-                        if gid not in {g.id for g in nxt.guides} | set(nxt.alive)}
+                gone = [g for gid, g in shown.items()
+                        if gid not in {g.id for g in nxt.guides} | set(nxt.alive)]
+                edges = [(s.points_mm[k], s.points_mm[k + 1]) for st in vp.steps[:i + 1]
+                         for s in st.strokes if s.kind in ("scaffold", "scaffold_hidden")
+                         for k in range(len(s.points_mm) - 1)]
+
+                def along(g):  # the edges on the guide's line (both ends within 0.05 mm)
+                    a, b = np.asarray(g.from_mm), np.asarray(g.to_mm)
+                    n = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
+                    return [(p, q) for p, q in edges
+                            if abs((np.asarray(p) - a) @ n) <= 0.05
+                            and abs((np.asarray(q) - a) @ n) <= 0.05]
+
+                def covered(g):  # the share of 201 points of the guide on edges along it
+                    mine = along(g)
+                    return np.mean([any(_on_segment(np.add(g.from_mm, f * np.subtract(
+                        g.to_mm, g.from_mm)), p, q) for p, q in mine)
+                        for f in np.linspace(0, 1, 201)])
+
+                whole = [g for g in gone if covered(g) == 1.0]
+                edged += len(whole)
+                left = [g for g in gone if g not in whole]
                 hint = L._erase_hint(vp, i)
-                if not gone:
+                if not left:
                     assert hint == ""
                     continue
                 m = re.fullmatch(r"Afterwards you may erase ([A-Z',]+(?:, [A-Z']+)*"
                                  r"(?: and [A-Z']+)?)\.", hint)
                 if m is None:
-                    assert f"erase {len(gone)} guide line" in hint and "next picture" in hint
+                    assert f"erase {len(left)} guide line" in hint and "next picture" in hint
                     counted += 1
                     continue
+                at = {lb.name: lb.at_mm for lb in step.labels if lb.kind == "point"}
                 names = re.split(r", | and ", m.group(1))
-                at = {lb.name: lb.at3d for lb in step.labels if lb.kind == "point"}
-                ends = {frozenset((tuple(np.round(g.from3d, 6)), tuple(np.round(g.to3d, 6))))
-                        for g in gone.values()}
-                said = set()
+                assert len(names) == len(left), (name, view, step.index, hint)
                 for n in names:
-                    a, b = re.findall(r"[A-Z]'*", n)
-                    said.add(frozenset((tuple(np.round(at[a], 6)), tuple(np.round(at[b], 6)))))
-                assert said == ends, (name, view, level, step.index, hint)
+                    a, b = (at[x] for x in re.findall(r"[A-Z]'*", n))
+                    owner = [g for g in left if _on_segment(a, g.from_mm, g.to_mm)
+                             and _on_segment(b, g.from_mm, g.to_mm)]
+                    assert owner, (name, view, step.index, n)
+                    mid = np.add(a, b) / 2  # the piece named runs along no edge
+                    assert not any(_on_segment(mid, p, q) for p, q in along(owner[0])), \
+                        (name, view, step.index, n)
                 named += 1
-    assert named > 10 and counted > 0
+    assert named > 10 and counted > 0 and edged > 0
