@@ -1089,6 +1089,33 @@ class _Context:
         return [(ref, name, sorted(group))
                 for (ref, name), group in list(found.items())[:SIZE_SENTENCES]]
 
+    def taper_specs(self, part: str) -> list[Spec]:
+        """A tapered part's smaller end compared with its larger one, when both its sides
+        narrow by the same easy ratio (:data:`SIZE_RATIOS` within :data:`SIZE_TOLERANCE`):
+        "Its bottom face is about half its top face's size, centred on it."  The lines drawn
+        place the box around it; without this the smaller end was guessed (the read-through:
+        the mixer's bowl)."""
+        prim = self.plan.primitive(part)
+        detail = prim.detail or {}
+        if prim.type != "frustum" or prim.axis is None or not {"lo_half", "hi_half"} <= set(detail):
+            return []
+        lo, hi = (tuple(float(x) for x in detail[k]) for k in ("lo_half", "hi_half"))
+        small, large = ("lo", "hi") if max(lo) < max(hi) else ("hi", "lo")
+        s_half, l_half = (lo, hi) if small == "lo" else (hi, lo)
+        names = set()
+        for a, b in zip(s_half, l_half):
+            if b <= 0.0:
+                return []
+            value, name = min(SIZE_RATIOS, key=lambda vn: abs(a / b / vn[0] - 1.0))
+            if abs(a / b / value - 1.0) > SIZE_TOLERANCE or value >= 1.0:
+                return []
+            names.add(name)
+        if len(names) != 1:
+            return []
+        return [spec("taper", small=self.words.face(prim.axis, small),
+                     large=self.words.face(prim.axis, large),
+                     amount=_raw("size_amounts")[names.pop()])]
+
     def size_specs(self, part: str, axes: Sequence[int], refs: Sequence[str]
                    ) -> list[tuple[Spec, list[int]]]:
         """:meth:`size_ratios` said ("Make its height about a third of the base's."), each
@@ -1260,6 +1287,7 @@ class _Context:
         words = self.words
         strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
         shape = words.shape(prim.type)
+        repeat = [*self.taper_specs(part), *repeat]  # said after the box, before any copies
         name = self.say(part)
         note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:

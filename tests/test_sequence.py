@@ -916,6 +916,44 @@ def test_ellipse_steps_for_cylinders(examples):
     assert checked >= 8
 
 
+def test_a_tapered_part_says_how_much_smaller_its_small_end_is(examples):
+    """"Its bottom face is about half its top face's size, centred on it.": said for the
+    camera's prism and the mixer's bowl, and true of the drawn tapered box: on both sides
+    the smaller end's half-size over the larger's is that ratio within the tolerance (a
+    fitted frustum's ends share one centre line), and the faces named are the smaller and
+    the larger end."""
+    from h2s_print.templates import lookup
+
+    amounts = {v: k for k, v in lookup("steps", "size_amounts").items()}
+    ratio = dict((name, value) for value, name in seq.SIZE_RATIOS)
+    faces = lookup("steps", "faces")
+    pattern = re.compile(r"Its (\w+) face is about (.+) its (\w+) face's size, centred on it\.")
+    said = set()
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for st in vp.steps:
+                for sub in st.substeps:
+                    m = pattern.fullmatch(sub)
+                    if m is None:
+                        continue
+                    prim = plan.primitive(st.part)
+                    assert prim.type == "frustum"
+                    small, amount, large = m.groups()
+                    lo, hi = prim.detail["lo_half"], prim.detail["hi_half"]
+                    ax = "xyz"[prim.axis]
+                    small_half, large_half = ((lo, hi) if small == faces[f"{ax}_lo"]
+                                              else (hi, lo))
+                    assert {small, large} == {faces[f"{ax}_lo"], faces[f"{ax}_hi"]}
+                    assert max(small_half) < max(large_half)
+                    r = ratio[amounts[amount]]
+                    for a, b in zip(small_half, large_half):
+                        assert abs(a / b / r - 1.0) <= seq.SIZE_TOLERANCE, (name, st.part)
+                    said.add((name, st.part))
+    assert {("camera", "prism"), ("mixer", "bowl")} <= said
+
+
 def test_round_frustum_ellipses_are_inscribed_in_its_drawn_end_rectangles(examples):
     """A round tapered part (the mixer's bowl) gets an ellipse on each end, each constructed
     in that end's rectangle of the tapered box its primitive step drew: the diagonals join
