@@ -1676,19 +1676,20 @@ class _Context:
             return [_Draft(part, "ellipse", True, (), tuple(strokes), head,
                            self.lettered([spec("ellipse_by_eye")]))]
         same = [spec("ellipse_copies")] if copies else []
-        key = "ellipse_plate" if not far else "ellipse_near"
+        key = "ellipse_plate" if not far else "ellipse_end"
         strokes = tuple(st for q, e in near for st in self.ellipse_strokes(q, e, basic))
         out = [_Draft(part, "ellipse", False,
                       tuple(_Line(ln.role, ln.start, ln.end) for _, e in near for ln in e.lines),
                       strokes,
                       _t(f"headline.{key}" + ("" if one else "_many"),
-                         Part=_cap(self.say(part)), Parts=who),
+                         Part=_cap(self.say(part)), Parts=who,
+                         face=self.words.face(axis, near[0][1].face.end)),
                       self.lettered(self.ellipse_specs(near[0][0], near[0][1], bool(far),
                                                        strokes) + same))]
         if not far:
             return out
-        head = _t("headline.ellipse_far" + ("" if one else "_many"), Part=_cap(self.say(part)),
-                  Parts=who)
+        head = _t("headline.ellipse_end" + ("" if one else "_many"), Part=_cap(self.say(part)),
+                  Parts=who, face=self.words.face(axis, far[0][2].face.end))
         strokes = tuple(st for q, _, be in far for st in self.ellipse_strokes(q, be, basic))
         if prim.type == "frustum":  # its own construction on the far end rectangle
             be = far[0][2]
@@ -1702,14 +1703,16 @@ class _Context:
                     strokes, head,
                     self.lettered(self.ellipse_specs(far[0][0], be, True, strokes) + same)))
             return out
-        fe = near[0][1]
+        fe, be = near[0][1], far[0][2]
         around = Many(tuple(Pts((x,)) for x in fe.touch))
+        # the carried points where they meet the far face's edges, lettered
+        reached = Many(tuple(Pts((x,)) for x in be.touch))
         out.append(_Draft(
             part, "ellipse", False,
             tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
             strokes, head,
-            self.lettered([spec("ellipse_carry", points=around, vp=self.words.vp(axis)),
-                           *same])))
+            self.lettered([spec("ellipse_carry", points=around, new=reached,
+                                vp=self.words.vp(axis)), *same])))
         return out
 
     def ellipse_specs(self, part: str, fe: Any, solid: bool,

@@ -879,6 +879,11 @@ def test_ellipse_steps_for_cylinders(examples):
                                                                  g.from3d[axis]))].box
                         assert g.from3d[axis] == other[front][axis]
                 else:  # carried: parallel to the axis, from the near face to the far one
+                    at = [lb.at3d for lb in s.labels if lb.kind == "point"]
+                    reached = [g for g in s.guides if any(  # the far end of each is lettered
+                        np.allclose(p, g.to3d, atol=1e-9) or np.allclose(p, g.from3d, atol=1e-9)
+                        for p in at)]
+                    assert len(reached) == 4 and len(at) == 8  # the copy shown: its 4 and 4
                     for g in s.guides:
                         d = np.subtract(g.to3d, g.from3d)
                         assert np.count_nonzero(np.abs(d) > 1e-9) == 1 and abs(d[axis]) > 0
