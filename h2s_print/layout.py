@@ -1439,26 +1439,54 @@ def _horizon(plan: ViewPlan) -> tuple[float, float, float] | None:
     return (a, b, -(a * x0 + b * y0))
 
 
-def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
-    """The first scaffold step's bottom face projected on the sheet: ``(part, 4 corners mm)``.
-
-    The face is the bottom (lowest z) face of the 3D box around that step's stroke points.
-    """
+def _first_box(plan: ViewPlan) -> tuple[str, np.ndarray, np.ndarray] | None:
+    """The first scaffold step's part and the 3D box ``(lo, hi)`` around its stroke points."""
     for step in plan.steps:
         if step.kind not in ("primitive", "basic") or not step.strokes:
             continue
         pts = np.array([p for s in step.strokes for p in s.points3d], dtype=float)
         if len(pts) == 0:
             continue
-        lo, hi = pts.min(axis=0), pts.max(axis=0)
-        z = lo[2]
-        corners = [(lo[0], lo[1], z), (hi[0], lo[1], z), (hi[0], hi[1], z), (lo[0], hi[1], z)]
-        if np.any(plan.camera.depth(corners) <= 0):
-            return None
-        proj = plan.camera.project(corners)
         part = step.part or (step.strokes[0].part if step.strokes else "")
-        return part, tuple((float(x), float(y)) for x, y in proj)
+        return part, pts.min(axis=0), pts.max(axis=0)
     return None
+
+
+def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
+    """The first scaffold step's bottom face projected on the sheet: ``(part, 4 corners mm)``.
+
+    The face is the bottom (lowest z) face of the 3D box around that step's stroke points.
+    """
+    found = _first_box(plan)
+    if found is None:
+        return None
+    part, lo, hi = found
+    z = lo[2]
+    corners = [(lo[0], lo[1], z), (hi[0], lo[1], z), (hi[0], hi[1], z), (lo[0], hi[1], z)]
+    if np.any(plan.camera.depth(corners) <= 0):
+        return None
+    proj = plan.camera.project(corners)
+    return part, tuple((float(x), float(y)) for x, y in proj)
+
+
+def first_near_edge(plan: ViewPlan) -> tuple[Pt, Pt] | None:
+    """The first scaffold step's upright edge nearest the camera, projected on the sheet
+    ``(bottom, top)`` mm: with the footprint it fixes the first box's height, which every
+    later size is measured against (the read-through: step 1 never said how tall)."""
+    found = _first_box(plan)
+    if found is None:
+        return None
+    _, lo, hi = found
+    if not hi[2] > lo[2]:
+        return None  # a flat first part: its footprint is all of it
+    eye = np.asarray(plan.camera.position, dtype=float)
+    x, y = min(((x, y) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])),
+               key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+    ends = [(x, y, lo[2]), (x, y, hi[2])]
+    if np.any(plan.camera.depth(ends) <= 0):
+        return None
+    (bx, by), (tx, ty) = plan.camera.project(ends)
+    return (float(bx), float(by)), (float(tx), float(ty))
 
 
 #: Perspective grid (:func:`perspective_grid`): about this far apart where the lines leave the
@@ -1569,7 +1597,7 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
 
 #: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint (and,
 #: where there is room, the finished drawing: ``lay_out_sheet(drawing=...)``).
-_SHEET_LINES = ("vp_arrow", "horizon", "ground")
+_SHEET_LINES = ("vp_arrow", "horizon", "ground", "ground_edge")
 
 
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
@@ -1764,6 +1792,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     if quad:
         for piece in clip_polyline(quad, frame, closed=True):
             items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False, "ground"))
+        edge = first_near_edge(plan) if ground_mm is None else None
+        if edge is not None:  # the first box's height: its nearest upright edge
+            for piece in clip_polyline(edge, frame):
+                items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
+                                      "ground_edge"))
         called = dict((full, label) for label, full in plan.part_names)  # renamed parts
         name = called.get(part or "", (part or "?").replace("_", " "))
         label = _t("sheet.ground", the_part=plain_text(templates.the(name)))

@@ -493,6 +493,16 @@ class _Draft:
     group: tuple[str, ...] = ()  # identical parts drawn in this step (their first is ``part``)
 
 
+def _first_specs(strokes: Sequence[Stroke]) -> list[Spec]:
+    """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
+    (printed on the sheet too, :func:`h2s_print.layout.first_near_edge`) when it has a
+    height, then its edges and the paper corners."""
+    z = [p[2] for s in strokes for p in s.points3d]
+    tall = bool(z) and max(z) > min(z)
+    return [spec("first_footprint"), *([spec("first_height")] if tall else []),
+            spec("first_edges"), spec("first_corners")]
+
+
 def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
     """"Use KL from step 2.": every line the units of ``groups`` (the guides steps numbered
     from ``step``) draw, cited with the step that drew it (an earlier one for a line reused)."""
@@ -1291,8 +1301,7 @@ class _Context:
         name = self.say(part)
         note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:
-            subs = self.lettered([spec("first_footprint"), spec("first_edges"),
-                                  spec("first_corners"), *repeat])
+            subs = self.lettered([*_first_specs(strokes), *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
@@ -2040,11 +2049,9 @@ class _Context:
                 shape = self.words.shape(prim.type)
                 head = _t("headline.first" if i == 0 else "headline.basic",
                           Part=_cap(self.say(p)), shape=shape)
-                subs = ((spec("first_footprint"), spec("first_edges"), spec("first_corners"))
-                        if i == 0 else (spec("basic_part"),))
-                drafts.append(_Draft(p, "basic", True, (),
-                                     _scaffold(p, prim, prim.box, self.camera, self.tol),
-                                     head, subs))
+                lines = _scaffold(p, prim, prim.box, self.camera, self.tol)
+                subs = tuple(_first_specs(lines)) if i == 0 else (spec("basic_part"),)
+                drafts.append(_Draft(p, "basic", True, (), lines, head, subs))
             drafts += [d for p in order if _round(self.plan.primitive(p))
                        for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
             drafts += self.contour_drafts(order, self.originals)

@@ -736,6 +736,37 @@ def test_sheet_labels_keep_off_the_drawings_surfaces():
     assert not L._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2))
 
 
+def test_sheet_shows_the_first_boxs_nearest_upright_edge(examples):
+    """The sheet fixes the first box's height too: besides its footprint, one dashed blue
+    line is a vertical edge of that box as step 1 draws it (a scaffold stroke, the same
+    mm), standing on a footprint corner, and of its four vertical edges the nearest to the
+    camera.  Step 1 says so."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        vp = views[(t.views[0].name, "novice")]
+        sheet = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+        blue = [it for it in sheet.items if isinstance(it, L.Polyline)
+                and it.role == "ground_edge"]
+        first = vp.steps[0]
+        verticals = [st for st in first.strokes if np.allclose(
+            np.asarray(st.points3d[0])[:2], np.asarray(st.points3d[-1])[:2])
+            and st.points3d[0][2] != st.points3d[-1][2]]
+        assert len(verticals) == 4, name
+        edge = [it for it in blue if len(it.points_mm) == 2 and any(
+            np.allclose(sorted(it.points_mm), sorted(map(tuple, st.points_mm)), atol=1e-6)
+            for st in verticals)]
+        assert len(edge) == 1, name
+        eye = np.asarray(vp.camera.position)
+        dist = {id(st): np.linalg.norm(np.asarray(st.points3d[0])[:2] - eye[:2])
+                for st in verticals}
+        mine = next(st for st in verticals if np.allclose(
+            sorted(edge[0].points_mm), sorted(map(tuple, st.points_mm)), atol=1e-6))
+        assert dist[id(mine)] == min(dist.values()), name
+        assert any("upright edge is the blue line" in x for x in first.substeps)
+        checked += 1
+    assert checked == 4
+
+
 def test_every_line_style_of_a_step_picture_has_a_key(examples):
     """The key under a step explains every style its picture uses: the new part's hidden
     edges (dotted orange) were read as new guides when the key had no entry for them."""
