@@ -833,6 +833,12 @@ def _cap(text: str) -> str:
     return text[:1].upper() + text[1:]
 
 
+def _carry_key(item: tuple[tuple[int, int | None], Any]) -> tuple[int, int]:
+    """Sort key of a carry group ``((axis, turn or None), runs)``."""
+    (axis, turn), _ = item
+    return (axis, -1 if turn is None else turn)
+
+
 def _moving_axis(line: _Line) -> int:
     """The model axis a carrying line runs along."""
     d = np.abs(np.asarray(line.end, dtype=float) - np.asarray(line.start, dtype=float))
@@ -1381,7 +1387,7 @@ class _Context:
         earlier = [] if described is None else described
         boxed: set[str] = set()
         known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
-        carried: dict[int, list[Pts]] = {}  # result lines carried, by the carry's first axis
+        carried: dict[tuple[int, int | None], list[Pts]] = {}  # by (first axis, turn)
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -1416,28 +1422,34 @@ class _Context:
             unit.lines += own
             if carry:
                 carry_lines += carry
-                runs = carried.setdefault(_moving_axis(carry[0]), [])
+                first, *rest = [_moving_axis(c) for c in carry]
+                turn = next((x for x in rest if x != first), None)  # around a corner: then this
+                runs = carried.setdefault((first, turn), [])
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [self.drawn_before(x, step)
                           for x in unit.specs if not _draws_known(x, known, self.tol)]
-        # A carry is said by its first direction only: one that turns a corner (toward a
-        # vanishing point, then across) is drawn on the picture; naming both made steps 10
-        # words longer.
+        # A carry that turns a corner (toward a vanishing point to the part's plane, then
+        # across to its face) says both directions: the read-through missed the turn when
+        # only the first was said.
         # a line that already runs along its carry direction is extended, not carried
         # ("Carry AB to part 4, vertically" where AB is vertical read as nonsense)
-        extended = [r for axis, runs in sorted(carried.items()) for r in runs
-                    if _runs_along(r, axis)]
-        carries = [(axis, kept) for axis, runs in carried.items()
-                   if (kept := [r for r in runs if not _runs_along(r, axis)])]
-        if len(carries) == 2:  # two directions: one sentence
-            (a0, r0), (a1, r1) = carries
+        extended = [r for (axis, turn), runs in sorted(carried.items(), key=_carry_key)
+                    for r in runs if turn is None and _runs_along(r, axis)]
+        carries = [(axis, turn, kept) for (axis, turn), runs in carried.items()
+                   if (kept := [r for r in runs if turn is not None
+                                or not _runs_along(r, axis)])]
+        if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
+            (a0, _, r0), (a1, _, r1) = carries  # two directions: one sentence
             carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=words.vp(a0),
                              lines2=Many(tuple(r1)), vp2=words.vp(a1))]
         else:
             carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
-                        for axis, runs in carries]
+                        if turn is None else
+                        spec("carry_turn", lines=Many(tuple(runs)), part=name,
+                             vp=words.vp(axis), vp2=words.vp(turn))
+                        for axis, turn, runs in carries]
         if extended:
             carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))
         if carrying:  # carrying lines needs no room: it stays with the part unless too long

@@ -680,3 +680,42 @@ def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
                         (name, view, step.index, n)
                 named += 1
     assert named > 10 and counted > 0 and edged > 0
+
+
+def test_a_carry_around_a_corner_says_both_directions(examples):
+    """"Carry EF and GK to the prism, toward the left vanishing point, then vertically.":
+    said exactly when the step's carrying lines turn a corner (two of them meet end to end
+    running along different model axes), the second direction being the turn's."""
+    from h2s_print.templates import lookup
+
+    vp_words = lookup("steps", "vp")
+    turns = plain = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for st in vp.steps:
+                carry = [x for x in st.substeps if x.startswith("Carry ") and " to the far " not in x]
+                if st.kind != "primitive" or not carry or any(
+                        "box around" in x for x in st.substeps):
+                    continue
+                lines = [g for g in st.guides if g.role == "vanishing"]
+
+                def axis(g):
+                    return int(np.argmax(np.abs(np.subtract(g.to3d, g.from3d))))
+
+                turn = {axis(b) for a in lines for b in lines if a is not b
+                        and np.allclose(a.to3d, b.from3d) and axis(a) != axis(b)}
+                said = [x for x in carry if ", then " in x]
+                assert bool(turn) == bool(said), (name, view, st.index, carry)
+                if said:
+                    turns += 1
+                    then = said[0].split(", then ")[1].rstrip(".")
+                    # the turn's direction: upright edges' (vertically, or their vanishing
+                    # point in a three-point view), else a vanishing point's
+                    assert then == vp_words["vertical"] or "vanishing point" in then, then
+                    assert (then == vp_words["vertical"]) <= (turn == {2}), (then, turn)
+                else:
+                    plain += 1
+    assert turns > 0 and plain > 0
+
