@@ -1148,7 +1148,17 @@ def _instruction(x: float, top: float, width: float, step: Step, size: float
     return items, y
 
 
-def _erase_hint(plan: ViewPlan, i: int) -> str:
+def _erase_hints(plan: ViewPlan) -> list[str]:
+    """Every step's :func:`_erase_hint`, the scaffold edges gathered once as the steps go."""
+    out: list[str] = []
+    edges: list[np.ndarray] = []
+    for i, step in enumerate(plan.steps):
+        edges.append(_step_edges(step))
+        out.append(_erase_hint(plan, i, np.vstack(edges)))
+    return out
+
+
+def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray | None = None) -> str:
     """The step's "you may erase ..." line (empty when nothing retires): the lines by their
     letters ("Afterwards you may erase AC, BD and FG.") when the ends of each are lettered on
     this step's picture, else their number and where to see which (the next picture no
@@ -1158,7 +1168,8 @@ def _erase_hint(plan: ViewPlan, i: int) -> str:
     if _erasable(plan, i) == 0:
         return ""
     later = {g.id for g, _ in _step_guides(plan, i + 1)}
-    edges = _edge_segments(plan, i)
+    if edges is None:
+        edges = np.vstack([_step_edges(st) for st in plan.steps[:i + 1]])
     names: list[str | None] = []
     for g, _ in _step_guides(plan, i):
         if g.id in later:
@@ -1186,9 +1197,9 @@ ON_EDGE_MM = 0.05
 ERASE_MIN_MM = 0.5
 
 
-def _edge_segments(plan: ViewPlan, i: int) -> np.ndarray:
-    """(n, 4) segments of the scaffold edges drawn by step ``i`` (0-based), sheet mm."""
-    segs = [np.hstack([p[:-1], p[1:]]) for st in plan.steps[:i + 1] for s in st.strokes
+def _step_edges(step: Step) -> np.ndarray:
+    """(n, 4) segments of the scaffold edges ``step`` draws, sheet mm."""
+    segs = [np.hstack([p[:-1], p[1:]]) for s in step.strokes
             if s.kind in ("scaffold", "scaffold_hidden")
             for p in (np.asarray(s.points_mm, dtype=float),) if len(p) > 1]
     return np.vstack(segs) if segs else np.zeros((0, 4))
@@ -1244,7 +1255,8 @@ def _legend_keys(plan: ViewPlan) -> list[str]:
     return keys
 
 
-def _step_geometry(f: _Frame, plan: ViewPlan) -> tuple[list[Box2], list[_View], float]:
+def _step_geometry(f: _Frame, plan: ViewPlan, hints: Sequence[str]
+                   ) -> tuple[list[Box2], list[_View], float]:
     """Where a workbook's step pages put their pictures: the slots (one per step on a page),
     the picture in each, and the text height below it.  One text height for every step page
     of the workbook, so the picture keeps one scale and place from page to page (a scaffold
@@ -1265,7 +1277,6 @@ def _step_geometry(f: _Frame, plan: ViewPlan) -> tuple[list[Box2], list[_View], 
             h = (top - bottom - gap * (per - 1)) / per
             slots.append((x0, top - k * (h + gap) - h, x1, top - k * (h + gap)))
     sw = slots[0][2] - slots[0][0]
-    hints = [_erase_hint(plan, i) for i in range(len(plan.steps))]
     text_h = max(
         6.5 + _instruction_height(step, sw, size)
         + (_paragraph_height(hint, sw, 8.5) + 2.0 if hint else 0.0)
@@ -1275,13 +1286,14 @@ def _step_geometry(f: _Frame, plan: ViewPlan) -> tuple[list[Box2], list[_View], 
     return slots, views, text_h
 
 
-def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str) -> list[Page]:
+def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str,
+                hints: Sequence[str]) -> list[Page]:
     n = len(plan.steps)
     per = _steps_per_page(plan)
     size = 11.0 if per == 1 else 10.0
     pages = []
     legend_keys = _legend_keys(plan)
-    slots, views, _ = _step_geometry(f, plan)
+    slots, views, _ = _step_geometry(f, plan, hints)
     margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
     for first in range(0, n, per):
         idx = list(range(first, min(n, first + per)))
@@ -1298,7 +1310,7 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: s
         items += legend
         texts = []
         for i in idx:
-            texts.append((plan.steps[i], _erase_hint(plan, i)))
+            texts.append((plan.steps[i], hints[i]))
         sw = slots[0][2] - slots[0][0]
         for (step, hint), slot, view, i in zip(texts, slots, views, idx):
             sx0 = slot[0]
@@ -1317,13 +1329,13 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: s
 
 
 def _final_page(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str,
-                final: Sequence[Stroke]) -> Page:
+                final: Sequence[Stroke], hints: Sequence[str]) -> Page:
     items: list[Item] = []
     head, top = _header(f, _t("final.heading"),
                         _t("step.header", title=title, view=view_label, level=level))
     items += head
     x0, _, x1, _ = f.box
-    view = _step_geometry(f, plan)[1][0]  # the step pages' picture: same scale and place
+    view = _step_geometry(f, plan, hints)[1][0]  # the step pages' picture: same place
     items += _sheet_background(view, plan.paper_mm, f.margin)
     for s in _final_strokes(plan, final):
         items += view.lines(s.points_mm, STYLES["final"], "stroke_final")
@@ -1388,8 +1400,9 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
                                      level if cover_level else None, how)]
     if plan.level != "basic":  # the control condition gets no How2Sketch constructions
         pages.append(_primer_page(f, title, right, primer_diagrams()))
-    pages += _step_pages(f, title, plan, view_label, level)
-    pages.append(_final_page(f, title, plan, view_label, level, final))
+    hints = _erase_hints(plan)
+    pages += _step_pages(f, title, plan, view_label, level, hints)
+    pages.append(_final_page(f, title, plan, view_label, level, final, hints))
     pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label,
                                grid=grid, drawing=[s.points_mm for s in
                                                    _final_strokes(plan, final)]))
