@@ -177,10 +177,14 @@ class Text:
     @property
     def box_mm(self) -> tuple[float, float, float, float]:
         """(x0, y0, x1, y1) of the inked area, from descender to cap height, mm."""
+        return self.box_at(self.x_mm, self.y_mm)
+
+    def box_at(self, x_mm: float, y_mm: float) -> tuple[float, float, float, float]:
+        """:attr:`box_mm` of this text anchored at ``(x_mm, y_mm)`` instead."""
         width = text_width_mm(self.string, self.size_pt, self.font)
-        x0 = self.x_mm - {"start": 0.0, "middle": width / 2, "end": width}[self.anchor]
+        x0 = x_mm - {"start": 0.0, "middle": width / 2, "end": width}[self.anchor]
         size = self.size_pt * PT_MM
-        return (x0, self.y_mm - 0.21 * size, x0 + width, self.y_mm + 0.72 * size)
+        return (x0, y_mm - 0.21 * size, x0 + width, y_mm + 0.72 * size)
 
 
 @dataclass(frozen=True, slots=True)
@@ -1583,9 +1587,9 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                 & (np.maximum(avoid[:, 1], avoid[:, 3]) >= y0))
         arrows = np.vstack([arrows, avoid[near]])
 
-    def clear(texts: list[Text]) -> bool:
-        for t in texts:
-            b = t.box_mm
+    def clear(dx: float, dy: float) -> bool:
+        for t in block:
+            b = t.box_at(t.x_mm + dx, t.y_mm + dy)
             if b[0] < frame[0] or b[2] > frame[2] or b[1] < frame[1] or b[3] > frame[3]:
                 return False
             if any(b[0] < p[2] + 3.0 and p[0] < b[2] + 3.0 and b[1] < p[3] + 1.0
@@ -1593,18 +1597,24 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                 return False
             if _crossings(arrows, (b[0] - 1.0, b[1] - 0.5, b[2] + 1.0, b[3] + 0.5)):
                 return False
-            if inside is not None and _in_convex(inside, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)):
-                return False
         return True
 
     # along the edge first, then also away from it, nearest first (2 mm steps, up to 60 mm)
     shifts = sorted(((a, c) for a in range(-30, 31) for c in range(-10, 11)),
                     key=lambda s: (abs(s[0]) + 2 * abs(s[1]), abs(s[1]), s))
-    for a, c in shifts:
-        dx, dy = (2.0 * c, 2.0 * a) if vertical else (2.0 * a, 2.0 * c)
-        moved = [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
-        if clear(moved):
-            return moved
+    offsets = np.array([(2.0 * c, 2.0 * a) if vertical else (2.0 * a, 2.0 * c)
+                        for a, c in shifts])
+    free = np.ones(len(offsets), dtype=bool)
+    if inside is not None and len(inside) >= 3:  # places whose texts' middles are all outside
+        middles = np.array([((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
+                            for b in (t.box_mm for t in block)])
+        at = (offsets[:, None, :] + middles[None, :, :]).reshape(-1, 2)
+        free = ~_in_convex_all(inside, at).reshape(len(offsets), len(block)).any(axis=1)
+    for (dx, dy), ok in zip(offsets.tolist(), free.tolist()):
+        if not ok:
+            continue
+        if clear(dx, dy):
+            return [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
     return None
 
 
@@ -1629,9 +1639,9 @@ def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
             return False
         if any(min(x1, b[2]) > max(x0, b[0]) and min(y1, b[3]) > max(y0, b[1]) for b in placed):
             return False
-        if _crossings(lines, t.box_mm):
-            return False
         if inside is not None and _in_convex(inside, ((x0 + x1) / 2, (y0 + y1) / 2)):
+            return False
+        if _crossings(lines, t.box_mm):
             return False
     return True
 
@@ -1651,11 +1661,18 @@ def _hull(points: Sequence[Pt]) -> np.ndarray:
 
 def _in_convex(poly: np.ndarray, p: Pt) -> bool:
     """Is ``p`` inside the counter-clockwise convex polygon ``poly`` (n >= 3)?"""
+    return bool(_in_convex_all(poly, np.asarray([p], dtype=float))[0])
+
+
+def _in_convex_all(poly: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Which of the points ``pts`` (m, 2) lie inside the counter-clockwise convex polygon
+    ``poly`` (n >= 3; on its edge counts as inside)."""
     if len(poly) < 3:
-        return False
+        return np.zeros(len(pts), dtype=bool)
     a, b = poly, np.roll(poly, -1, axis=0)
-    cross = (b[:, 0] - a[:, 0]) * (p[1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (p[0] - a[:, 0])
-    return bool((cross >= 0).all())
+    cross = ((b[:, 0] - a[:, 0])[None, :] * (pts[:, 1:2] - a[None, :, 1])
+             - (b[:, 1] - a[:, 1])[None, :] * (pts[:, 0:1] - a[None, :, 0]))
+    return (cross >= 0).all(axis=1)
 
 
 def _corner_offset(v: Pt, frame: Box2) -> str:
