@@ -495,7 +495,7 @@ class _Draft:
 
 def _first_specs(strokes: Sequence[Stroke]) -> list[Spec]:
     """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
-    (printed on the sheet too, :func:`h2s_print.layout.first_near_edge`) when it has a
+    (printed on the sheet too, :func:`h2s_print.sheet.first_near_edge`) when it has a
     height, then its edges and the paper corners."""
     z = [p[2] for s in strokes for p in s.points3d]
     tall = bool(z) and max(z) > min(z)

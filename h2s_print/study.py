@@ -62,8 +62,9 @@ from .config import PaperSpec, StudyConfig
 from .errors import ConfigError
 from .layout import (
     Bookmark, Page, Polyline, Rect, Text, _Frame, _header, _paragraph,
-    _with_footers, fit_line, plain_text, registration_marks,
+    _with_footers, fit_line, plain_text,
 )
+from .sheet import registration_marks
 from .studyfile import Box, Drawing, SheetKey, Study, code_text, study_json
 from .types import Stroke
 

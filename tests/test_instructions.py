@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from h2s_print import layout as L
+from h2s_print import sheet as S
 from h2s_print import sequence as seq
 from h2s_print.constructions import RATIOS, Face, construct
 from h2s_print.instructions import (ALPHABET, Many, Pts, construction_specs, letter_steps, spec,
@@ -384,7 +385,7 @@ def test_drawing_sheet_labels_do_not_overlap(examples, grid):
         for (view, level), vp in views.items():
             if level != "novice":
                 continue
-            page = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, grid=grid)
+            page = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, grid=grid)
             texts = [it for it in page.items if isinstance(it, L.Text) and it.string]
             for a, b in itertools.combinations(texts, 2):
                 assert not L._boxes_overlap(a.box_mm, b.box_mm), (name, view, a.string, b.string)
@@ -399,9 +400,9 @@ def test_drawing_sheet_labels_do_not_overlap(examples, grid):
 def test_perspective_grid_lines_run_toward_their_vanishing_points(examples):
     for name, (t, plan, views) in examples.items():
         vp = views[(t.views[0].name, "novice")]
-        plain = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+        plain = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
         assert not [it for it in plain.items if getattr(it, "role", "") == "grid"]
-        page = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, grid=True)
+        page = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, grid=True)
         lines = [it for it in page.items if isinstance(it, L.Polyline) and it.role == "grid"]
         frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
         for v in vp.vanishing_points:

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from h2s_print import layout as L
+from h2s_print import sheet as S
 from h2s_print.config import PaperSpec
 from h2s_print.errors import RenderError
 from h2s_print.types import Camera, Guide, Step, Stroke, VanishingPoint, ViewPlan
@@ -458,7 +459,7 @@ def test_primer_page_has_every_diagram_and_caption():
 
 def test_sheet_is_true_scale():
     plan = make_plan()
-    page = L.lay_out_sheet("Digital camera", plan, margin_mm=12.0)
+    page = S.lay_out_sheet("Digital camera", plan, margin_mm=12.0)
     assert (page.width_mm, page.height_mm) == (297.0, 210.0)  # = plan.paper_mm, 1 mm : 1 mm
     ground = polylines(page, "ground")
     assert len(ground) == 1
@@ -480,7 +481,7 @@ def test_sheet_is_true_scale():
 def test_sheet_horizon_and_far_vanishing_points():
     plan = make_plan(el_deg=5.0)
     _, geo = make_camera(el_deg=5.0)
-    page = L.lay_out_sheet("Digital camera", plan)
+    page = S.lay_out_sheet("Digital camera", plan)
     # two-point camera: the horizon is the line y = cy (eye height) across the sheet
     hz, = polylines(page, "horizon")
     assert all(y == pytest.approx(geo["cy"], abs=1e-9) for _, y in hz.points_mm)
@@ -514,7 +515,7 @@ def test_sheet_horizon_off_the_paper_is_stated():
     plan = make_plan(el_deg=12.0)
     _, geo = make_camera(el_deg=12.0)
     assert geo["cy"] > 198  # eye above the frame's top (210 - 12)
-    page = L.lay_out_sheet("Digital camera", plan)
+    page = S.lay_out_sheet("Digital camera", plan)
     assert polylines(page, "horizon") == []
     note, = texts(page, "horizon_label")
     assert note.string == f"horizon: {geo['cy'] - 198:.0f} mm above the frame"
@@ -539,7 +540,7 @@ def test_sheet_text_does_not_overlap():
     plans = [make_plan(paper_mm=paper, el_deg=el) for el in (5.0, 12.0, 30.0)
              for paper in ((297.0, 210.0), (210.0, 297.0))]
     for plan in plans + list(_project_plans()):
-            page = L.lay_out_sheet("Digital camera", plan)
+            page = S.lay_out_sheet("Digital camera", plan)
             boxes = [(t.string, t.box_mm) for t in texts(page)]
             for i, (sa, a) in enumerate(boxes):
                 for sb, b in boxes[i + 1:]:
@@ -551,7 +552,7 @@ def test_horizon_agrees_with_the_project_stage():
 
     drawn = 0
     for plan in list(_project_plans()) + [make_plan(el_deg=5.0)]:
-        page = L.lay_out_sheet("t", plan)
+        page = S.lay_out_sheet("t", plan)
         (x0, y0), (x1, y1) = horizon_mm(plan.camera)
         for line in polylines(page, "horizon"):
             drawn += 1
@@ -573,11 +574,11 @@ def _with_vps(plan, *points):
 def test_sheet_names_vanishing_points_like_the_steps():
     plan = make_plan()
     # centre (148.5, 105): (148.5, 900) is 795 mm above -> "above"; (-500, 100) -> "left"
-    page = L.lay_out_sheet("t", _with_vps(plan, (148.5, 900.0), (-500.0, 100.0)))
+    page = S.lay_out_sheet("t", _with_vps(plan, (148.5, 900.0), (-500.0, 100.0)))
     names = [t.string.split(":")[0] for t in texts(page, "vp_label")]
     assert names == ["vanishing point above", "left vanishing point"]
     # two VPs right of the centre share the side: each adds its edges (steps.yaml `edges`)
-    page = L.lay_out_sheet("t", _with_vps(plan, (700.0, 150.0), (900.0, 60.0)))
+    page = S.lay_out_sheet("t", _with_vps(plan, (700.0, 150.0), (900.0, 60.0)))
     names = [t.string.split(":")[0] for t in texts(page, "vp_label")]
     assert names == ["right vanishing point of the left-right edges",
                      "right vanishing point of the front-back edges"]
@@ -590,7 +591,7 @@ def test_sheet_writes_part_names_with_spaces():
     plan = make_plan()
     steps = (replace(plan.steps[0], part="shutter_button"),) + plan.steps[1:]
     plan = ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, plan.vanishing_points, steps)
-    label, = texts(L.lay_out_sheet("t", plan), "ground_label")
+    label, = texts(S.lay_out_sheet("t", plan), "ground_label")
     assert label.string == "bottom face of the shutter button (step 1)"
 
 
@@ -598,7 +599,7 @@ def test_vp_on_the_sheet_is_marked_where_it_is():
     plan = make_plan()
     vp = VanishingPoint(0, False, (250.0, 120.0), (1.0, 0.0))
     plan2 = ViewPlan(plan.name, plan.level, plan.paper_mm, plan.camera, (vp,), plan.steps)
-    page = L.lay_out_sheet("t", plan2)
+    page = S.lay_out_sheet("t", plan2)
     mark, = [c for c in page.items if isinstance(c, L.Circle) and c.role == "vp"]
     assert (mark.cx_mm, mark.cy_mm) == (250.0, 120.0)
 
@@ -705,8 +706,8 @@ def test_sheet_labels_keep_off_the_drawing(examples):
                 continue
             lines = [s.points_mm for st in vp.steps for s in st.strokes]
             segs = L._segments([L.Polyline(tuple(p)) for p in lines])
-            kept = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
-            plain = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            kept = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
+            plain = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
             crossing = _crossing_labels(kept, segs)
             if name in ("camera", "roller"):
                 assert crossing == [], (name, view)
@@ -723,17 +724,17 @@ def test_sheet_labels_keep_off_the_drawings_surfaces():
     whose middle is inside the drawing's convex outline does not fit where one outside
     does, and is moved out of it along the frame's edge when there is room."""
     frame = (0.0, 0.0, 200.0, 150.0)
-    hull = L._hull([(40.0, 30.0), (160.0, 30.0), (160.0, 120.0), (40.0, 120.0), (100.0, 75.0)])
-    assert len(hull) == 4 and L._in_convex(hull, (100.0, 75.0))
-    assert not L._in_convex(hull, (20.0, 75.0))
+    hull = S._hull([(40.0, 30.0), (160.0, 30.0), (160.0, 120.0), (40.0, 120.0), (100.0, 75.0)])
+    assert len(hull) == 4 and S._in_convex(hull, (100.0, 75.0))
+    assert not S._in_convex(hull, (20.0, 75.0))
     on_top = [L.Text(90.0, 74.0, "bottom face of the top (step 1)", 7, "Helvetica", "start",
                      "blue", "ground_label")]
-    assert L._fits(on_top, [], frame)
-    assert not L._fits(on_top, [], frame, None, hull)
-    moved = L._clear_of_texts(on_top, [], frame, False, None, hull)
+    assert S._fits(on_top, [], frame)
+    assert not S._fits(on_top, [], frame, None, hull)
+    moved = S._clear_of_texts(on_top, [], frame, False, None, hull)
     assert moved is not None
     b = moved[0].box_mm
-    assert not L._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2))
+    assert not S._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2))
 
 
 def test_sheet_shows_the_first_boxs_nearest_upright_edge(examples):
@@ -744,7 +745,7 @@ def test_sheet_shows_the_first_boxs_nearest_upright_edge(examples):
     checked = 0
     for name, (t, plan, views) in examples.items():
         vp = views[(t.views[0].name, "novice")]
-        sheet = L.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+        sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
         blue = [it for it in sheet.items if isinstance(it, L.Polyline)
                 and it.role == "ground_edge"]
         first = vp.steps[0]

@@ -38,7 +38,7 @@ def sheet(tmp_path_factory):
     """(key, stamped page rendered at RENDER_DPI as greyscale, study) for one sheet: the
     camera's front-left view, novice."""
     from h2s_print.config import load_tutorial
-    from h2s_print.layout import lay_out_sheet, registration_marks
+    from h2s_print.sheet import lay_out_sheet, registration_marks
     from h2s_print.pipeline import plan_tutorial
     from h2s_print.render import render_png
     from h2s_print.study import code_box, stamped

@@ -1,0 +1,549 @@
+"""The calibrated drawing sheet (DESIGN.md §2.9): the page a person draws on, at true scale.
+
+:func:`lay_out_sheet` places the frame and its green corners, the vanishing points (or arrows
+toward them, with their distances), the horizon, the first box's footprint and nearest upright
+edge, an optional perspective grid, registration marks and a scale bar, and their labels off
+the drawing wherever the frame has room.  Split from :mod:`h2s_print.layout` (whose page
+values and drawing helpers it uses) when that module outgrew one reader; the decisions are
+in :mod:`h2s_print.layout`'s docstring (*Calibrated sheet*).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Sequence
+
+import numpy as np
+
+from . import templates
+from .errors import RenderError
+from .config import MIN_MARGIN_MM
+from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt, Rect, Text,
+                     _arrow, _clip_segment, _crossings, _frame_box, _green_corners, _level_name,
+                     _segments, _t, clip_polyline, fit_line, plain_text, text_width_mm,
+                     vp_names)
+from .project import edge_exit, horizon_mm
+from .types import ViewPlan
+
+
+def _horizon(plan: ViewPlan) -> tuple[float, float, float] | None:
+    """:func:`h2s_print.project.horizon_mm` as ``(a, b, c)``: ``a x + b y + c = 0`` on the
+    sheet (mm) with ``(a, b)`` a unit normal; ``None`` when the horizon is at infinity."""
+    ends = horizon_mm(plan.camera)
+    if ends is None:
+        return None
+    (x0, y0), (x1, y1) = ends
+    a, b = y0 - y1, x1 - x0  # normal of the direction (x1 - x0, y1 - y0)
+    n = math.hypot(a, b)
+    if not n > 0.0:
+        return None
+    a, b = a / n, b / n
+    return (a, b, -(a * x0 + b * y0))
+
+
+def _first_box(plan: ViewPlan) -> tuple[str, np.ndarray, np.ndarray] | None:
+    """The first scaffold step's part and the 3D box ``(lo, hi)`` around its stroke points."""
+    for step in plan.steps:
+        if step.kind not in ("primitive", "basic") or not step.strokes:
+            continue
+        pts = np.array([p for s in step.strokes for p in s.points3d], dtype=float)
+        if len(pts) == 0:
+            continue
+        part = step.part or (step.strokes[0].part if step.strokes else "")
+        return part, pts.min(axis=0), pts.max(axis=0)
+    return None
+
+
+def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
+    """The first scaffold step's bottom face projected on the sheet: ``(part, 4 corners mm)``.
+
+    The face is the bottom (lowest z) face of the 3D box around that step's stroke points.
+    """
+    found = _first_box(plan)
+    if found is None:
+        return None
+    part, lo, hi = found
+    z = lo[2]
+    corners = [(lo[0], lo[1], z), (hi[0], lo[1], z), (hi[0], hi[1], z), (lo[0], hi[1], z)]
+    if np.any(plan.camera.depth(corners) <= 0):
+        return None
+    proj = plan.camera.project(corners)
+    return part, tuple((float(x), float(y)) for x, y in proj)
+
+
+def first_near_edge(plan: ViewPlan) -> tuple[Pt, Pt] | None:
+    """The first scaffold step's upright edge nearest the camera, projected on the sheet
+    ``(bottom, top)`` mm: with the footprint it fixes the first box's height, which every
+    later size is measured against (the read-through: step 1 never said how tall)."""
+    found = _first_box(plan)
+    if found is None:
+        return None
+    _, lo, hi = found
+    if not hi[2] > lo[2]:
+        return None  # a flat first part: its footprint is all of it
+    eye = np.asarray(plan.camera.position, dtype=float)
+    x, y = min(((x, y) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])),
+               key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+    ends = [(x, y, lo[2]), (x, y, hi[2])]
+    if np.any(plan.camera.depth(ends) <= 0):
+        return None
+    (bx, by), (tx, ty) = plan.camera.project(ends)
+    return (float(bx), float(by)), (float(tx), float(ty))
+
+
+#: Perspective grid (:func:`perspective_grid`): about this far apart where the lines leave the
+#: frame, mm, and drawn like this.
+GRID_SPACING_MM = 12.0
+GRID_STYLE = LineStyle("lightgrey", 0.15)
+
+
+def perspective_grid(plan: ViewPlan, frame: Box2) -> list[Polyline]:
+    """Lines converging toward each vanishing point across ``frame`` (sheet mm), as printed
+    perspective grids have (role ``grid``): from a finite vanishing point, rays at equal angles
+    over the frame's span as seen from it, about :data:`GRID_SPACING_MM` apart where they
+    leave the frame; toward one at infinity, parallels that far apart.  Every line lies on a
+    line through its vanishing point (or along its direction)."""
+    x0, y0, x1, y1 = frame
+    corners = np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], dtype=float)
+    reach = float(np.hypot(x1 - x0, y1 - y0))
+    out: list[Polyline] = []
+
+    def add(p: Pt, q: Pt) -> None:
+        for piece in clip_polyline([p, q], frame):
+            if math.hypot(piece[-1][0] - piece[0][0], piece[-1][1] - piece[0][1]) > 1.0:
+                out.append(Polyline(tuple(piece), GRID_STYLE.colour, GRID_STYLE.width_mm, (),
+                                    False, "grid"))
+
+    for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
+        if vp.at_infinity or vp.xy_mm is None:
+            d = np.asarray(vp.direction_mm, dtype=float)
+            d = d / np.linalg.norm(d)
+            nrm = np.array([-d[1], d[0]])
+            offs = corners @ nrm
+            centre = corners.mean(axis=0)
+            c0 = float(centre @ nrm)
+            k0 = math.ceil((offs.min() - c0) / GRID_SPACING_MM)
+            k1 = math.floor((offs.max() - c0) / GRID_SPACING_MM)
+            for k in range(k0, k1 + 1):
+                p = centre + (k * GRID_SPACING_MM) * nrm
+                add(tuple(p - reach * d), tuple(p + reach * d))
+            continue
+        v = np.asarray(vp.xy_mm, dtype=float)
+        rel = corners - v
+        dist = np.hypot(rel[:, 0], rel[:, 1])
+        far = float(dist.max())
+        inside = x0 < v[0] < x1 and y0 < v[1] < y1
+        if inside:
+            lo, hi = 0.0, 2 * math.pi
+        else:  # the frame's span seen from the VP (under half a turn: the frame is convex)
+            mid = math.atan2(*(corners.mean(axis=0) - v)[::-1])
+            ang = [(math.atan2(r[1], r[0]) - mid + math.pi) % (2 * math.pi) - math.pi
+                   for r in rel]
+            lo, hi = mid + min(ang), mid + max(ang)
+        n = max(8, min(90, int(math.ceil((hi - lo) * far / GRID_SPACING_MM))))
+        for k in range(1, n) if not inside else range(n):
+            t = lo + (hi - lo) * k / n
+            add((float(v[0]), float(v[1])),
+                (float(v[0] + (far + reach) * math.cos(t)), float(v[1] + (far + reach) * math.sin(t))))
+    return out
+
+
+def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
+                    vertical: bool, avoid: np.ndarray | None = None,
+                    inside: np.ndarray | None = None) -> list[Text] | None:
+    """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
+    smallest step that keeps it clear of every text and line of :data:`_SHEET_LINES` in
+    ``items``, of the segments ``avoid`` and of the convex polygon ``inside``, inside
+    ``frame``; None when no such place is within 60 mm."""
+    placed = [t.box_mm for t in items if isinstance(t, Text)]
+    arrows = _segments([it for it in items if isinstance(it, Polyline)
+                        and it.role in _SHEET_LINES])
+    if avoid is not None and len(avoid):
+        # only the segments the search can reach (60 mm along the edge, 20 mm across)
+        bx = [t.box_mm for t in block]
+        reach = (20.0 + 2.0, 60.0 + 2.0) if vertical else (60.0 + 2.0, 20.0 + 2.0)
+        x0 = min(b[0] for b in bx) - reach[0]
+        x1 = max(b[2] for b in bx) + reach[0]
+        y0 = min(b[1] for b in bx) - reach[1]
+        y1 = max(b[3] for b in bx) + reach[1]
+        near = ((np.minimum(avoid[:, 0], avoid[:, 2]) <= x1)
+                & (np.maximum(avoid[:, 0], avoid[:, 2]) >= x0)
+                & (np.minimum(avoid[:, 1], avoid[:, 3]) <= y1)
+                & (np.maximum(avoid[:, 1], avoid[:, 3]) >= y0))
+        arrows = np.vstack([arrows, avoid[near]])
+
+    def clear(dx: float, dy: float) -> bool:
+        for t in block:
+            b = t.box_at(t.x_mm + dx, t.y_mm + dy)
+            if b[0] < frame[0] or b[2] > frame[2] or b[1] < frame[1] or b[3] > frame[3]:
+                return False
+            if any(b[0] < p[2] + 3.0 and p[0] < b[2] + 3.0 and b[1] < p[3] + 1.0
+                   and p[1] < b[3] + 1.0 for p in placed):  # 3 mm apart along a line, 1 mm across
+                return False
+            if _crossings(arrows, (b[0] - 1.0, b[1] - 0.5, b[2] + 1.0, b[3] + 0.5)):
+                return False
+        return True
+
+    # along the edge first, then also away from it, nearest first (2 mm steps, up to 60 mm)
+    shifts = sorted(((a, c) for a in range(-30, 31) for c in range(-10, 11)),
+                    key=lambda s: (abs(s[0]) + 2 * abs(s[1]), abs(s[1]), s))
+    offsets = np.array([(2.0 * c, 2.0 * a) if vertical else (2.0 * a, 2.0 * c)
+                        for a, c in shifts])
+    free = np.ones(len(offsets), dtype=bool)
+    if inside is not None and len(inside) >= 3:  # places whose texts' middles are all outside
+        middles = np.array([((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
+                            for b in (t.box_mm for t in block)])
+        at = (offsets[:, None, :] + middles[None, :, :]).reshape(-1, 2)
+        free = ~_in_convex_all(inside, at).reshape(len(offsets), len(block)).any(axis=1)
+    for (dx, dy), ok in zip(offsets.tolist(), free.tolist()):
+        if not ok:
+            continue
+        if clear(dx, dy):
+            return [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
+    return None
+
+
+#: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint (and,
+#: where there is room, the finished drawing: ``lay_out_sheet(drawing=...)``).
+_SHEET_LINES = ("vp_arrow", "horizon", "ground", "ground_edge")
+
+
+def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
+          avoid: np.ndarray | None = None, inside: np.ndarray | None = None) -> bool:
+    """True when ``texts`` lie inside ``frame``, overlap no text already in ``items``, cross
+    none of the sheet's lines there (:data:`_SHEET_LINES`) nor ``avoid``, and do not lie in
+    the convex polygon ``inside``."""
+    placed = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+    lines = _segments([it for it in items if isinstance(it, Polyline)
+                       and it.role in _SHEET_LINES])
+    if avoid is not None and len(avoid):
+        lines = np.vstack([lines, avoid])
+    for t in texts:
+        x0, y0, x1, y1 = t.box_mm
+        if x0 < frame[0] or y0 < frame[1] or x1 > frame[2] or y1 > frame[3]:
+            return False
+        if any(min(x1, b[2]) > max(x0, b[0]) and min(y1, b[3]) > max(y0, b[1]) for b in placed):
+            return False
+        if inside is not None and _in_convex(inside, ((x0 + x1) / 2, (y0 + y1) / 2)):
+            return False
+        if _crossings(lines, t.box_mm):
+            return False
+    return True
+
+
+def _hull(points: Sequence[Pt]) -> np.ndarray:
+    """The convex hull of ``points``, counter-clockwise (n, 2); empty when degenerate."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    if len(pts) < 3:
+        return np.zeros((0, 2))
+    try:
+        return pts[ConvexHull(pts).vertices]
+    except (QhullError, ValueError):
+        return np.zeros((0, 2))
+
+
+def _in_convex(poly: np.ndarray, p: Pt) -> bool:
+    """Is ``p`` inside the counter-clockwise convex polygon ``poly`` (n >= 3)?"""
+    return bool(_in_convex_all(poly, np.asarray([p], dtype=float))[0])
+
+
+def _in_convex_all(poly: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Which of the points ``pts`` (m, 2) lie inside the counter-clockwise convex polygon
+    ``poly`` (n >= 3; on its edge counts as inside)."""
+    if len(poly) < 3:
+        return np.zeros(len(pts), dtype=bool)
+    a, b = poly, np.roll(poly, -1, axis=0)
+    cross = ((b[:, 0] - a[:, 0])[None, :] * (pts[:, 1:2] - a[None, :, 1])
+             - (b[:, 1] - a[:, 1])[None, :] * (pts[:, 0:1] - a[None, :, 0]))
+    return (cross >= 0).all(axis=1)
+
+
+def _corner_offset(v: Pt, frame: Box2) -> str:
+    """Where ``v`` lies from the nearest green frame corner, in words (mm along x and y)."""
+    corners = {"bottom_left": (frame[0], frame[1]), "bottom_right": (frame[2], frame[1]),
+               "top_right": (frame[2], frame[3]), "top_left": (frame[0], frame[3])}
+    key = min(corners, key=lambda k: (math.dist(corners[k], v), k))
+    c = corners[key]
+    dx, dy = v[0] - c[0], v[1] - c[1]
+    return _t("sheet.vp_offset", dx=f"{abs(dx):.0f}", dy=f"{abs(dy):.0f}",
+              hdir=_t("sheet.right" if dx >= 0 else "sheet.left"),
+              vdir=_t("sheet.up" if dy >= 0 else "sheet.down"),
+              corner=_t(f"sheet.corners.{key}"))
+
+
+def registration_marks(paper_mm: tuple[float, float], margin_mm: float
+                       ) -> tuple[tuple[Pt, Pt, Pt, Pt], float]:
+    """The calibrated sheet's four registration marks: their centres, in the middle of the
+    margin band at each corner (bottom-left, bottom-right, top-right, top-left), and their
+    circles' radius, mm (the crosses reach half a millimetre beyond)."""
+    w, h = float(paper_mm[0]), float(paper_mm[1])
+    band = float(margin_mm) / 2
+    r = min(2.5, max(1.0, band - 1.0))
+    return ((band, band), (w - band, band), (w - band, h - band), (band, h - band)), r
+
+
+def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_label: str = "",
+                  ground_mm: Sequence[Pt] | None = None, grid: bool = False,
+                  drawing: Sequence[Sequence[Pt]] = ()) -> Page:
+    """The calibrated drawing sheet at true scale: 1 sheet mm is 1 page mm.
+
+    The page is ``plan.paper_mm``.  It shows the frame (the paper margins) with green corners,
+    each vanishing point (a mark when on the paper; otherwise an arrow on the frame pointing at
+    it with its distance from the arrow's tip), the horizon, the ground plane of the first
+    primitive (``ground_mm`` or :func:`first_ground_quad`), four registration marks in the
+    margin band and a 100 mm scale bar with "print at 100% (actual size)".
+
+    Args:
+        title: the tutorial's title.
+        plan: the view (camera, vanishing points, steps).
+        margin_mm: the frame's inset from the paper edge, mm.
+        view_label: the view's name for the heading (default ``plan.name``).
+        ground_mm: four sheet points (mm) of the ground quad, overriding the computed one.
+        grid: also a light perspective grid (config ``sheet.grid``): lines converging toward
+            each vanishing point across the frame (:func:`perspective_grid`), so a ruler line
+            toward a vanishing point far off the sheet can be drawn anywhere.
+        drawing: the finished drawing's polylines (sheet mm), not printed: labels are placed
+            where they cross none of its lines, so nothing is printed where the person draws
+            (and where scoring a scan could not see the pencil).
+    """
+    w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
+    m = float(margin_mm)
+    if m < MIN_MARGIN_MM or min(w, h) < 2 * m + 20:
+        raise RenderError(f"drawing sheet {w:g} x {h:g} mm: margin {m:g} mm does not fit")
+    if tuple(map(float, plan.camera.paper_mm)) != (w, h):
+        raise RenderError(f"view {plan.name!r}: camera sheet {plan.camera.paper_mm} mm is not "
+                          f"the plan's paper {plan.paper_mm} mm")
+    title = plain_text(title)
+    frame = _frame_box((w, h), m)
+    items: list[Item] = []
+    items.append(Rect(frame[0], frame[1], frame[2] - frame[0], frame[3] - frame[1], "lightgrey",
+                      0.2, None, "frame"))
+    if grid:
+        items += perspective_grid(plan, frame)
+    items += _green_corners(frame, 15.0)
+    band = m / 2  # centre line of the margin band
+    # Registration marks: a circle and cross centred in the margin band at each corner.
+    centres, r = registration_marks((w, h), m)
+    for cx, cy in centres:
+        items.append(Circle(cx, cy, r, "black", 0.2, None, "registration"))
+        arm = r + 0.5  # at a 15 mm margin the cross ends 4.5 mm from the edge: printers print it
+        items.append(Polyline(((cx - arm, cy), (cx + arm, cy)), "black", 0.2, (), False, "registration"))
+        items.append(Polyline(((cx, cy - arm), (cx, cy + arm)), "black", 0.2, (), False, "registration"))
+    # Heading in the top band, scale bar in the bottom band.
+    head = _t("sheet.heading", title=title, view=plain_text(view_label or plan.name),
+              level=_level_name(plan.level))
+    hx0, hx1 = band + r + 3, w - band - r - 3
+    items.append(Text(hx0, h - band - 0.9, head, fit_line(head, hx1 - hx0, 7), "Helvetica",
+                      "start", "grey", "sheet_title"))
+    bar_x0 = band + r + 5
+    bar_y = band - 0.5
+    items.append(Polyline(((bar_x0, bar_y), (bar_x0 + 100.0, bar_y)), "black", 0.3, (), False, "scale_bar"))
+    for k in range(11):
+        tick = 1.6 if k % 5 == 0 else 0.9
+        x = bar_x0 + 10.0 * k
+        items.append(Polyline(((x, bar_y), (x, bar_y + tick)), "black", 0.2, (), False, "scale_tick"))
+    items.append(Text(bar_x0 + 103.0, bar_y, _t("sheet.scale"), 7, "Helvetica", "start", "black",
+                      "scale_label"))
+    # Labels placed after the VP labels, at the first option that collides with no text.
+    shadow = _segments([Polyline(tuple(p)) for p in drawing if len(p) >= 2])
+    # where the learner will draw: the finished drawing's convex outline, its edges and its
+    # inside (a label between the drawing's lines still sits on a surface to be drawn)
+    hull = _hull([q for p in drawing for q in p])
+    area = (np.vstack([shadow, np.hstack([hull, np.roll(hull, -1, axis=0)])])
+            if len(hull) >= 3 else shadow)
+    deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
+    # Horizon.
+    hl = _horizon(plan)
+    if hl is not None:
+        a, b, c = hl
+        # Two far points on the line, then clip to the frame.
+        p0 = (-a * c, -b * c)
+        d = (-b, a)
+        far = 10 * (w + h)
+        seg = _clip_segment((p0[0] - far * d[0], p0[1] - far * d[1]),
+                            (p0[0] + far * d[0], p0[1] + far * d[1]), frame)
+        if seg is not None and math.dist(*seg) > 1.0:
+            left, right = sorted(seg)
+            items.append(Polyline((left, right), "black", 0.25, (4.0, 1.5), False, "horizon"))
+            # Label along the line, away from the VP labels (placed after them).
+            options = []
+            for t in (0.5, 0.35, 0.65, 0.2, 0.8):
+                at = (left[0] + t * (right[0] - left[0]), left[1] + t * (right[1] - left[1]))
+                for dy in (1.2, -3.2):
+                    options.append(([Text(at[0], at[1] + dy, _t("sheet.horizon"), 7, "Helvetica",
+                                          "middle", "black", "horizon_label")], []))
+            deferred.append(options)
+        else:
+            cx = w / 2
+            y_at = (-c - a * cx) / b if abs(b) > 1e-9 else None
+            if y_at is not None:
+                above = y_at > frame[3]
+                dist = abs(y_at - (frame[3] if above else frame[1]))
+                key = "sheet.horizon_above" if above else "sheet.horizon_below"
+                ty = frame[3] - 5.0 if above else frame[1] + 3.0
+                tip_y = frame[3] - 1.0 if above else frame[1] + 1.0
+                up = (0.0, 1.0 if above else -1.0)
+                note = _t(key, distance=f"{dist:.0f}")
+                options = []
+                for ax, tx, anchor in ((frame[0] + 4.0, frame[0] + 7.0, "start"),
+                                       (frame[2] - 4.0, frame[2] - 7.0, "end"),
+                                       (frame[0] + 0.3 * (frame[2] - frame[0]),
+                                        frame[0] + 0.3 * (frame[2] - frame[0]) + 3.0, "start")):
+                    options.append(([Text(tx, ty, note, 7, "Helvetica", anchor, "black",
+                                          "horizon_label")],
+                                    _arrow((ax, tip_y), up, 6.0, "black", 0.25, "horizon_arrow")))
+                deferred.append(options)
+    # Ground plane of the first primitive.
+    quad: tuple[Pt, ...] | None
+    part = ""
+    if ground_mm is not None:
+        quad = tuple((float(x), float(y)) for x, y in ground_mm)
+    else:
+        found = first_ground_quad(plan)
+        quad = None if found is None else found[1]
+        part = "" if found is None else found[0]
+    if quad:
+        for piece in clip_polyline(quad, frame, closed=True):
+            items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False, "ground"))
+        edge = first_near_edge(plan) if ground_mm is None else None
+        if edge is not None:  # the first box's height: its nearest upright edge
+            for piece in clip_polyline(edge, frame):
+                items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
+                                      "ground_edge"))
+        called = dict((full, label) for label, full in plan.part_names)  # renamed parts
+        name = called.get(part or "", (part or "?").replace("_", " "))
+        label = _t("sheet.ground", the_part=plain_text(templates.the(name)))
+        low = min(quad, key=lambda p: (p[1], p[0]))
+        high = max(quad, key=lambda p: (p[1], p[0]))
+        lft = min(quad, key=lambda p: (p[0], p[1]))
+        rgt = max(quad, key=lambda p: (p[0], p[1]))
+        deferred.append([([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")], [])
+                         for x, y, anchor in ((low[0], low[1] - 3.5, "middle"),
+                                              (high[0], high[1] + 1.5, "middle"),
+                                              (rgt[0] + 2.0, rgt[1] - 1.0, "start"),
+                                              (lft[0] - 2.0, lft[1] - 1.0, "end"))])
+    # Vanishing points, named as the step texts name them.
+    centre = (w / 2, h / 2)
+    inner = (m + 2.0, m + 2.0, w - m - 2.0, h - m - 2.0)  # arrow tips end 2 mm inside the frame
+    names = vp_names(plan)
+    for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
+        name = names[vp.axis]
+        finite = not vp.at_infinity and vp.xy_mm is not None
+        if finite:
+            v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
+            if 0.0 <= v[0] <= w and 0.0 <= v[1] <= h:
+                items.append(Circle(v[0], v[1], 1.2, "black", 0.3, None, "vp"))
+                items.append(Polyline(((v[0] - 3, v[1]), (v[0] + 3, v[1])), "black", 0.2, (), False, "vp"))
+                items.append(Polyline(((v[0], v[1] - 3), (v[0], v[1] + 3)), "black", 0.2, (), False, "vp"))
+                anchor = "end" if v[0] > w / 2 else "start"
+                dx = -2.5 if anchor == "end" else 2.5
+                items.append(Text(v[0] + dx, v[1] + 2.0, _t("sheet.vp", vp=name), 8, "Helvetica-Bold",
+                                  anchor, "black", "vp_label"))
+                continue
+            detail = _corner_offset(v, frame)
+        else:
+            detail = ""
+        origin = centre
+        if finite and hl is not None:
+            # A VP on the horizon (two-point views): run the arrow along the horizon, from the
+            # frame centre's foot on it, so the arrow lies on the line the VP sits on.
+            a, b, c = hl
+            off = a * centre[0] + b * centre[1] + c
+            foot = (centre[0] - a * off, centre[1] - b * off)
+            if abs(a * v[0] + b * v[1] + c) < 1e-6 * (1.0 + math.hypot(*v)) and \
+                    inner[0] < foot[0] < inner[2] and inner[1] < foot[1] < inner[3]:
+                origin = foot
+        # The arrow's tip: where the ray toward the VP leaves ``inner``.
+        exit_ = edge_exit(plan.camera, vp, inset_mm=m + 2.0, origin_mm=origin)
+        if exit_ is None:
+            continue
+        tip, edge, direction = exit_.point_mm, exit_.side, exit_.direction_mm
+        label = (_t("sheet.vp_far", vp=name, distance=f"{exit_.distance_mm:.0f}") if finite
+                 else _t("sheet.vp_infinite", vp=name))
+        items += _arrow(tip, direction, 12.0, "black", 0.35, "vp_arrow")
+        tw = text_width_mm(label, 8, "Helvetica-Bold")
+        n = math.hypot(*direction)
+        ux, uy = direction[0] / n, direction[1] / n
+        # Label just inside the frame next to the arrow's shaft.
+        # Side edges: the label block goes above the tip when the shaft comes from below,
+        # else below it, so neither the shaft nor a horizon through the tip crosses the text.
+        ly = tip[1] + 5.5 if uy > 0 else tip[1] - 5.0
+        ly = min(max(ly, inner[1] + 5.0), inner[3] - 3.0)
+        if edge == "right":
+            anchor, lx = "end", tip[0] - 3.0
+        elif edge == "left":
+            anchor, lx = "start", tip[0] + 3.0
+        else:
+            # Top/bottom edges: the block sits beside the shaft, toward the sheet's middle,
+            # within the shaft's 12 mm from the edge.
+            tail = (tip[0] - ux * 12.0, tip[1] - uy * 12.0)
+            block = max(tw, text_width_mm(detail, 7))
+            if tip[0] < (frame[0] + frame[2]) / 2:
+                anchor, lx = "start", min(max(tip[0], tail[0]) + 3.0, inner[2] - block)
+            else:
+                anchor, lx = "end", max(min(tip[0], tail[0]) - 3.0, inner[0] + block)
+            ly = tip[1] - 4.5 if edge == "top" else tip[1] + 8.5
+        block = [Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label")]
+        if detail:
+            block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
+        vertical = edge in ("left", "right")
+        placed = _clear_of_texts(block, items, frame, vertical, area, hull)
+        if placed is None:  # no room off the drawing: at least off its lines
+            placed = _clear_of_texts(block, items, frame, vertical, shadow)
+        if placed is None:  # nor that: at least clear of the other labels
+            placed = _clear_of_texts(block, items, frame, vertical)
+        items += placed or block
+    for options in deferred:
+        # the first position off the drawing; else the first one moved off it; else the same
+        # off its lines only; else clear of the other labels only; else the first
+        texts, extra = options[0]
+        for avoid, inside in ((area, hull), (shadow, None), (None, None)):
+            fit = next((o for o in options if _fits(o[0], items, frame, avoid, inside)), None)
+            if fit is not None:
+                texts, extra = fit
+                break
+            moved = _clear_of_texts(options[0][0], items, frame, False, avoid, inside)
+            if moved is not None:
+                texts = moved
+                break
+        items += extra
+        items += texts
+    if grid:  # the grid stops short of every label, so no text is read through its lines
+        boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+        items = [piece for it in items for piece in (
+            _knocked_out(it, boxes, GRID_KNOCKOUT_MM)
+            if isinstance(it, Polyline) and it.role == "grid" else [it])]
+    return Page(w, h, tuple(items), (Bookmark(_t("sheet.bookmark")),), "sheet", title, m)
+
+
+#: The perspective grid leaves this much room around each label on the sheet, mm.
+GRID_KNOCKOUT_MM = 1.0
+
+
+def _knocked_out(line: Polyline, boxes: Sequence[Box2], pad: float) -> list[Polyline]:
+    """A straight two-point ``line`` without the stretches inside any of ``boxes`` grown by
+    ``pad`` (pieces under 1 mm dropped)."""
+    (ax, ay), (bx, by) = line.points_mm[0], line.points_mm[-1]
+    cuts = []
+    for x0, y0, x1, y1 in boxes:
+        hit = _clip_segment((ax, ay), (bx, by), (x0 - pad, y0 - pad, x1 + pad, y1 + pad))
+        if hit is None:
+            continue
+        length = math.hypot(bx - ax, by - ay) or 1.0
+        t = sorted(math.hypot(q[0] - ax, q[1] - ay) / length for q in hit)
+        cuts.append((t[0], t[1]))
+    if not cuts:
+        return [line]
+    out: list[Polyline] = []
+    start = 0.0
+    for t0, t1 in sorted(cuts) + [(1.0, 1.0)]:
+        if t0 > start:
+            p = (ax + start * (bx - ax), ay + start * (by - ay))
+            q = (ax + t0 * (bx - ax), ay + t0 * (by - ay))
+            if math.dist(p, q) > 1.0:
+                out.append(replace(line, points_mm=(p, q)))
+        start = max(start, t1)
+    return out
