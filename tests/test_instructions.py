@@ -720,3 +720,43 @@ def test_a_carry_around_a_corner_says_both_directions(examples):
                     plain += 1
     assert turns > 0 and plain > 0
 
+
+def test_a_line_drawn_over_an_edge_says_so(examples):
+    """"From H, draw HJ vertically, along the column's edge.": said exactly when, on the
+    sheet, both ends of the line drawn lie within a pencil's width (seq.ALONG_MM) of a
+    scaffold edge of a part drawn before, over more than half the line (an orange line on a
+    grey edge looked like nothing new)."""
+    pat = re.compile(r"(?:From|Through) ([A-Z]'*), draw ([A-Z]'*)([A-Z]'*) .*?(, along (.+)'s edge)?\.")
+    said = plain = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for k, st in enumerate(vp.steps):
+                at = {lb.name: np.asarray(lb.at_mm) for lb in st.labels if lb.kind == "point"}
+                edges = [(np.asarray(s.points_mm[0]), np.asarray(s.points_mm[-1]), s.part)
+                         for e in vp.steps[:k] for s in e.strokes
+                         if s.kind in ("scaffold", "scaffold_hidden")]
+                for sub in st.substeps:
+                    m = pat.fullmatch(sub)
+                    if m is None:
+                        continue
+                    a, b = at[m.group(2)], at[m.group(3)]
+
+                    def over(p, q):
+                        d = q - p
+                        n = np.linalg.norm(d)
+                        u = d / n
+                        off = [np.linalg.norm((x - p) - ((x - p) @ u) * u) for x in (a, b)]
+                        lo, hi = sorted(((a - p) @ u, (b - p) @ u))
+                        return max(off) <= seq.ALONG_MM and min(hi, n) - max(lo, 0) > 0.5 * np.linalg.norm(b - a)
+
+                    hit = [part for p, q, part in edges if over(p, q)]
+                    if m.group(4):
+                        assert hit, (name, view, st.index, sub)
+                        said += 1
+                    else:
+                        assert not hit, (name, view, st.index, sub, hit)
+                        plain += 1
+    assert said >= 3 and plain > 50
+
