@@ -67,6 +67,7 @@ from .errors import RenderError
 from . import fonts
 from .glyphs import ascii_font, printable, spelled
 from .project import make_camera, vp_side
+from .sequence import ALONG_MM
 from .types import Guide, Label, Step, Stroke, ViewPlan
 
 log = logging.getLogger(__name__)
@@ -1195,9 +1196,12 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray | None = None) -> str:
     return plain_text(templates.text("pages", "step.erase_named", lines=lines))
 
 
-#: A guide's piece lies along a scaffold edge when both ends of the edge's segment are this
-#: close to the guide's line (sheet mm) ...
-ON_EDGE_MM = 0.05
+#: A guide's piece lies along a scaffold edge when both ends of the edge's segment are
+#: within a pencil's width of the guide's line on the sheet (the sequence's "along the
+#: column's edge" uses the same width: a line said to run along an edge is never erased) ...
+ON_EDGE_MM = ALONG_MM
+#: ... and a lettered point names a piece's end within this (sheet mm).
+AT_POINT_MM = 0.05
 #: ... and a piece left over shorter than this is not a line to erase (sheet mm).
 ERASE_MIN_MM = 0.5
 
@@ -1240,7 +1244,7 @@ def _letters_at(step: Step, piece: tuple[Pt, Pt]) -> str | None:
     out = ""
     for end in piece:
         hit = next((lb.name for lb in step.labels
-                    if lb.kind == "point" and math.dist(lb.at_mm, end) <= ON_EDGE_MM), None)
+                    if lb.kind == "point" and math.dist(lb.at_mm, end) <= AT_POINT_MM), None)
         if hit is None:
             return None
         out += hit

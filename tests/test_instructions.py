@@ -642,17 +642,19 @@ def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
                          for s in st.strokes if s.kind in ("scaffold", "scaffold_hidden")
                          for k in range(len(s.points_mm) - 1)]
 
-                def along(g):  # the edges on the guide's line (both ends within 0.05 mm)
+                pen = seq.ALONG_MM  # a pencil's width on the sheet
+
+                def along(g):  # the edges on the guide's line (both ends within a pencil)
                     a, b = np.asarray(g.from_mm), np.asarray(g.to_mm)
                     n = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
                     return [(p, q) for p, q in edges
-                            if abs((np.asarray(p) - a) @ n) <= 0.05
-                            and abs((np.asarray(q) - a) @ n) <= 0.05]
+                            if abs((np.asarray(p) - a) @ n) <= pen
+                            and abs((np.asarray(q) - a) @ n) <= pen]
 
                 def covered(g):  # the share of 201 points of the guide on edges along it
                     mine = along(g)
                     return np.mean([any(_on_segment(np.add(g.from_mm, f * np.subtract(
-                        g.to_mm, g.from_mm)), p, q) for p, q in mine)
+                        g.to_mm, g.from_mm)), p, q, pen + 1e-9) for p, q in mine)
                         for f in np.linspace(0, 1, 201)])
 
                 whole = [g for g in gone if covered(g) == 1.0]
@@ -677,7 +679,7 @@ def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
                              and _on_segment(b, g.from_mm, g.to_mm)]
                     assert owner, (name, view, step.index, n)
                     mid = np.add(a, b) / 2  # the piece named runs along no edge
-                    assert not any(_on_segment(mid, p, q) for p, q in along(owner[0])), \
+                    assert not any(_on_segment(mid, p, q, pen) for p, q in along(owner[0])), \
                         (name, view, step.index, n)
                 named += 1
     assert named > 10 and counted > 0 and edged > 0
