@@ -125,6 +125,8 @@ STYLES: dict[str, LineStyle] = {
     "face": LineStyle("black", 0.4),
     "construction": LineStyle("orange", 0.25, (1.6, 1.0)),
     "result": LineStyle("orange", 0.6),
+    # a close-up's frames (the small one and the enlargement): no line of the drawing
+    "close_up": LineStyle("green", 0.25, (1.5, 1.0)),
 }
 
 
@@ -570,36 +572,48 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
     return items
 
 
-def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float) -> list[Item]:
+def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
+                room: Box2 | None = None) -> list[Item]:
     """The cumulative drawing at step ``i`` (0-based) in ``view``, lettered; crowded letters
     go in a close-up (:func:`_close_up`) drawn in a corner of the picture."""
     step = plan.steps[i]
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
     drawing = _drawing(view, plan, i)
     items += drawing
-    zoom = _close_up(view, step, _segments(items), _segments(
-        [it for it in drawing if isinstance(it, Polyline) and it.role.startswith("stroke")]))
+    # the object's lines and the paper corners are what a close-up must not hide
+    kept = [it for it in items if isinstance(it, Polyline)
+            and (it.role.startswith("stroke") or it.role == "corner")]
+    zoom = _close_up(view, step, _segments(items), _segments(kept), room)
     if zoom is None:
         return items + place_labels(view, step.labels, items)
     region, zview = zoom
     items += place_labels(view, [lb for lb in step.labels if lb.kind == "part"], items)
-    items.append(Rect(region[0], region[1], region[2] - region[0], region[3] - region[1],
-                      "grey", 0.25, None, "close_up_region"))
     x0, y0, x1, y1 = zview.rect
-    items.append(Rect(x0, y0, x1 - x0, y1 - y0, "grey", 0.35, "white", "close_up"))
+    style = STYLES["close_up"]
+    frames = [Polyline(((a, b), (c, b), (c, d), (a, d)), style.colour, style.width_mm,
+                       style.dash_mm, True, "close_up_frame") for a, b, c, d in (region, zview.rect)]
+    items += [Rect(region[0], region[1], region[2] - region[0], region[3] - region[1],
+                   None, 0.0, None, "close_up_region"), frames[0],
+              Rect(x0, y0, x1 - x0, y1 - y0, None, 0.0, "white", "close_up")]
     # its caption outside it, on the side toward the middle of the picture
     size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
     below = (y0 + y1) / 2 > (view.rect[1] + view.rect[3]) / 2
-    items.append(Text(x0, y0 - 1.0 - cap if below else y1 + 1.0, _t("step.close_up"), size,
-                      "Helvetica-Oblique", "start", "grey", "close_up_caption"))
+    right = x0 > view.rect[2]  # beside the picture on its right: the caption ends at its edge
+    items.append(Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0,
+                      _t("step.close_up"), size, "Helvetica-Oblique", "end" if right else "start",
+                      "green", "close_up_caption"))
     lines = _drawing(zview, plan, i)
-    return items + lines + place_labels(zview, [lb for lb in step.labels
-                                                if lb.kind == "point"], lines)
+    return items + lines + [frames[1]] + place_labels(
+        zview, [lb for lb in step.labels if lb.kind == "point"], lines + [frames[1]])
 
 
 #: A step's lettered points get a close-up when two of them lie closer than this on the
-#: picture (page mm; about two letter heights) ...
+#: picture (page mm; about two letter heights), or when at least
+#: :data:`CLOSE_UP_DENSE_LETTERS` share their bounding box at less than
+#: :data:`CLOSE_UP_ROOM_MM2` each (nine letters on a 12 mm ellipse) ...
 CLOSE_UP_CROWDED_MM = 5.0
+CLOSE_UP_DENSE_LETTERS = 5
+CLOSE_UP_ROOM_MM2 = 40.0
 #: ... magnified so that those two lie this far apart, at most :data:`CLOSE_UP_MAX_ZOOM`
 #: times, and only if at least :data:`CLOSE_UP_MIN_ZOOM` times fits (less is not worth the
 #: part of the picture it covers).
@@ -616,27 +630,49 @@ CLOSE_UP_INSET_MM = 1.5
 CLOSE_UP_CAPTION_PT = 6.5
 
 
-def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray
-              ) -> tuple[Box2, _View] | None:
+def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
+              room: Box2 | None = None) -> tuple[Box2, _View] | None:
     """Where a crowded step's letters go: the region round its lettered points (page mm) and
     the view that magnifies it into a corner (or the middle of an edge) of the picture, or
     None when the letters have room (no two points closer than :data:`CLOSE_UP_CROWDED_MM`)
     or no place can take the close-up without covering the region or a part's name.  Of the
     places that can, the one hiding the fewest lines of the object (``drawn``, segments of
     its strokes), then the most magnified (a smaller close-up is tried where the largest
-    covers the object), then the one hiding the fewest lines of any kind (``segs``)."""
+    covers the object), then the one hiding the fewest lines of any kind (``segs``).  First
+    of all, beside the picture within ``room`` (its slot on the page), level with the frame,
+    on the side nearer the frame that leaves room for the least zoom: there it hides
+    nothing."""
     pts = [view.map(lb.at_mm) for lb in step.labels if lb.kind == "point"]
     if len(pts) < 2:
         return None
     closest = min(math.dist(a, b) for k, a in enumerate(pts) for b in pts[k + 1:])
-    if closest >= CLOSE_UP_CROWDED_MM:
-        return None
     xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    each = (max(xs) - min(xs)) * (max(ys) - min(ys)) / len(pts)  # room per letter, mm²
+    dense = len(pts) >= CLOSE_UP_DENSE_LETTERS and each < CLOSE_UP_ROOM_MM2
+    if closest >= CLOSE_UP_CROWDED_MM and not dense:
+        return None
     pad = CLOSE_UP_PAD_MM
     region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
     rw, rh = region[2] - region[0], region[3] - region[1]
     x0, y0, x1, y1 = view.rect
-    zoom = min(CLOSE_UP_MAX_ZOOM, CLOSE_UP_SPACING_MM / max(closest, 1e-9),
+    wanted = max(CLOSE_UP_SPACING_MM / max(closest, 1e-9),
+                 math.sqrt(2.0 * CLOSE_UP_ROOM_MM2 / max(each, 1e-9)) if dense else 0.0)
+    s = view.scale
+    window = (view.window[0] + (region[0] - x0) / s, view.window[1] + (region[1] - y0) / s,
+              view.window[0] + (region[2] - x0) / s, view.window[1] + (region[3] - y0) / s)
+    if room is not None:  # beside the picture, level with the frame: it hides nothing there
+        gap = CLOSE_UP_INSET_MM
+        sides = [(room[0], x0 - gap), (x1 + gap, room[2])]
+        if region[0] + region[2] > x0 + x1:  # the side nearer the frame first
+            sides.reverse()
+        for lo, hi in sides:
+            z = min(CLOSE_UP_MAX_ZOOM, wanted, (hi - lo) / rw, (y1 - y0) / rh)
+            if z >= CLOSE_UP_MIN_ZOOM:
+                w, h = rw * z, rh * z
+                bx = lo if lo > x1 else hi - w  # against the picture
+                by = min(max(0.5 * (region[1] + region[3]) - h / 2, y0), y1 - h)
+                return region, _View(window, (bx, by, bx + w, by + h))
+    zoom = min(CLOSE_UP_MAX_ZOOM, wanted,
                CLOSE_UP_SHARE * (x1 - x0) / rw, CLOSE_UP_SHARE * (y1 - y0) / rh)
     if zoom < CLOSE_UP_MIN_ZOOM:
         return None
@@ -663,9 +699,6 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray
             break
     if best is None:
         return None
-    s = view.scale
-    window = (view.window[0] + (region[0] - x0) / s, view.window[1] + (region[1] - y0) / s,
-              view.window[0] + (region[2] - x0) / s, view.window[1] + (region[3] - y0) / s)
     return region, _View(window, best[1])
 
 
@@ -1323,7 +1356,8 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: s
         sw = slots[0][2] - slots[0][0]
         for (step, hint), slot, view, i in zip(texts, slots, views, idx):
             sx0 = slot[0]
-            items += _step_panel(view, plan, i, margin_sheet)
+            items += _step_panel(view, plan, i, margin_sheet, (slot[0], view.rect[1],
+                                                               slot[2], view.rect[3]))
             ttop = view.rect[1] - 3.0
             items.append(Text(sx0, ttop - 0.72 * 12 * PT_MM, _t("step.number", index=step.index),
                               12, "Helvetica-Bold", "start", "black", "step_number"))

@@ -175,6 +175,27 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                 page = pages[k // per]
                 rect, scale = _pictures(page, vp)[k % per]
                 box = (rect.x_mm, rect.y_mm, rect.x_mm + rect.w_mm, rect.y_mm + rect.h_mm)
+                inside = lambda it: (box[0] <= it.x_mm <= box[2] and box[1] <= it.y_mm <= box[3])
+                # a close-up: its frame in the picture, the enlargement right after it in the
+                # page's items (in the picture or beside it)
+                regions = [it for it in page.items if isinstance(it, L.Rect)
+                           and it.role == "close_up_region" and inside(it)]
+                zoom = None
+                if regions:
+                    at = page.items.index(regions[0])
+                    close = next(it for it in page.items[at:] if isinstance(it, L.Rect)
+                                 and it.role == "close_up")
+                    zoom = (regions[0], close)
+                    region = regions[0]
+                    assert not L._boxes_overlap(  # it shows the region it magnifies whole
+                        (region.x_mm, region.y_mm, region.x_mm + region.w_mm,
+                         region.y_mm + region.h_mm),
+                        (close.x_mm, close.y_mm, close.x_mm + close.w_mm,
+                         close.y_mm + close.h_mm))
+                    zoomed += 1
+                    box = (min(box[0], close.x_mm), min(box[1], close.y_mm),
+                           max(box[2], close.x_mm + close.w_mm),
+                           max(box[3], close.y_mm + close.h_mm))
                 dots = [it for it in page.items if isinstance(it, L.Circle)
                         and it.role == "label_point"]
                 texts = [it for it in page.items if isinstance(it, L.Text) and it.role == "label"]
@@ -183,18 +204,6 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                 drawn = {tx.string: d for d, tx in mine}
                 named = _letters_in(step.substeps)
                 assert named <= set(drawn), (name, view, step.index, named - set(drawn))
-                inside = lambda it: (box[0] <= it.x_mm <= box[2] and box[1] <= it.y_mm <= box[3])
-                rects = {it.role: it for it in page.items if isinstance(it, L.Rect)
-                         and it.role in ("close_up", "close_up_region") and inside(it)}
-                zoom = ((rects["close_up_region"], rects["close_up"]) if rects else None)
-                if zoom is not None:  # a close-up shows the region it magnifies whole
-                    region, close = zoom
-                    assert not L._boxes_overlap(
-                        (region.x_mm, region.y_mm, region.x_mm + region.w_mm,
-                         region.y_mm + region.h_mm),
-                        (close.x_mm, close.y_mm, close.x_mm + close.w_mm,
-                         close.y_mm + close.h_mm))
-                    zoomed += 1
                 parts = [it.string for it in page.items if isinstance(it, L.Text)
                          and it.role == "part_label" and box[0] <= it.x_mm <= box[2]
                          and box[1] <= it.y_mm <= box[3]]
