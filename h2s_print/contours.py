@@ -299,6 +299,13 @@ class _Mesh:
         self.name = part.name
         self.seen: list[tuple[Camera, ContourSettings, np.ndarray, np.ndarray]] = []
         v, f = _weld(np.asarray(part.vertices, dtype=float), np.asarray(part.faces, dtype=np.int64))
+        # A double-sided mesh lists each triangle twice, once per side: one is kept.  Else
+        # every edge has four faces, the first two a triangle and its own back, and all its
+        # edges became silhouettes (PartNet's bottle: its outline steps traced every facet).
+        if len(f):
+            _, once = np.unique(np.sort(f, axis=1), axis=0, return_index=True)
+            if len(once) < len(f):
+                f = f[np.sort(once)]
         cross = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
         area2 = np.linalg.norm(cross, axis=1)
         self.diag = float(np.linalg.norm(v.max(axis=0) - v.min(axis=0))) if len(v) else 0.0

@@ -149,6 +149,20 @@ def test_split_vertices_are_welded_before_adjacency():
     assert segments(a) == segments(b)
 
 
+def test_a_double_sided_mesh_draws_like_its_one_side():
+    """Each triangle listed twice, once per side (PartNet's bottle), draws like the mesh
+    itself: else every edge had four faces, a triangle and its own back, and all became
+    silhouettes."""
+    mesh = trimesh.creation.cylinder(radius=1.0, height=2.0, sections=24)
+    twins = np.stack([mesh.faces, mesh.faces[:, ::-1]], axis=1).reshape(-1, 3)  # f0, its back ...
+    both = Part("c", readonly(mesh.vertices, float), readonly(twins, np.int64))
+    cam = look_at((6, -6, 4), (0, 0, 0))
+    (a,) = trace_contours([both], cam)
+    (b,) = trace_contours([make_part("c", mesh)], cam)
+    assert segments(a) == segments(b)
+    assert len(segments(a, "silhouette")) < 3 * 24  # its outline, not every facet
+
+
 def test_open_boundary_edges_are_drawn():
     quad = Part("q", readonly([[0, 0, 0], [1, 0, 0], [1, 0, 1], [0, 0, 1]], float),
                 readonly([[0, 1, 2], [0, 2, 3]], np.int64))
@@ -595,8 +609,14 @@ def test_edge_table_is_that_of_the_sorted_unique_rows():
 
     mesh = trimesh.creation.cylinder(radius=1.0, height=2.0, sections=30)
     faces = np.asarray(mesh.faces)
-    faces = np.concatenate([faces[5:], faces[5:6]])  # open (a few faces gone) and one face twice
-    part = Part("p", readonly(mesh.vertices, float), readonly(faces, np.int64))
+    verts = np.vstack([mesh.vertices, [[3.0, 3.0, 3.0]]])
+    rest = faces[5:]  # open: a few faces gone
+    es = np.sort(np.stack([rest[:, [0, 1]], rest[:, [1, 2]], rest[:, [2, 0]]], axis=1)
+                 .reshape(-1, 2), axis=1)
+    shared, n = np.unique(es, axis=0, return_counts=True)
+    a, b = shared[np.flatnonzero(n == 2)[0]]
+    faces = np.concatenate([rest, [[a, b, len(mesh.vertices)]]])  # a third face on an edge
+    part = Part("p", readonly(verts, float), readonly(faces, np.int64))
     m = C._Mesh(part)
     f = m.f
     he = np.stack([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]], axis=1).reshape(-1, 2)
