@@ -524,15 +524,6 @@ def _step_guides(plan: ViewPlan, i: int) -> list[tuple[Guide, str]]:
     return sorted(out, key=lambda gs: order[gs[1]])
 
 
-def _erasable(plan: ViewPlan, i: int) -> int:
-    """Guide lines shown at step ``i`` that are no longer shown at step ``i + 1``."""
-    if i + 1 >= len(plan.steps):
-        return 0
-    shown = {g.id for g, _ in _step_guides(plan, i)}
-    later = {g.id for g, _ in _step_guides(plan, i + 1)}
-    return len(shown - later)
-
-
 def _stroke_points(strokes: Iterable[Stroke]) -> list[Pt]:
     return [tuple(p) for s in strokes for p in s.points_mm]  # type: ignore[misc]
 
@@ -575,7 +566,7 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
 def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
                 room: Box2 | None = None) -> list[Item]:
     """The cumulative drawing at step ``i`` (0-based) in ``view``, lettered; crowded letters
-    go in a close-up (:func:`_close_up`) drawn in a corner of the picture."""
+    go in a close-up (:func:`_close_up`), beside the picture within ``room`` or in it."""
     step = plan.steps[i]
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
     drawing = _drawing(view, plan, i)
@@ -1197,18 +1188,17 @@ def _erase_hints(plan: ViewPlan) -> list[str]:
     return out
 
 
-def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray | None = None) -> str:
+def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     """The step's "you may erase ..." line (empty when nothing retires): the lines by their
     letters ("Afterwards you may erase AC, BD and FG.") when the ends of each are lettered on
     this step's picture, else their number and where to see which (the next picture no
     longer shows them).  A guide that runs along an edge of the scaffold is erased only
     beyond it (the mixer's KU along the column's edge KL is "LU"), and not at all when it
-    lies on the edge whole (:func:`_off_edges`)."""
-    if _erasable(plan, i) == 0:
+    lies on the edge whole (:func:`_off_edges`).  ``edges``: the scaffold edges drawn by
+    step ``i`` (:func:`_erase_hints` gathers them)."""
+    if i + 1 >= len(plan.steps):
         return ""
     later = {g.id for g, _ in _step_guides(plan, i + 1)}
-    if edges is None:
-        edges = np.vstack([_step_edges(st) for st in plan.steps[:i + 1]])
     names: list[str | None] = []
     for g, _ in _step_guides(plan, i):
         if g.id in later:

@@ -193,6 +193,13 @@ SIZE_RATIOS = ((0.25, "quarter"), (1 / 3, "third"), (0.5, "half"), (2 / 3, "two-
 SIZE_TOLERANCE = 0.12
 #: ... in at most this many sentences a step.
 SIZE_SENTENCES = 2
+
+
+def _easy_ratio(ratio: float) -> str | None:
+    """The name of the :data:`SIZE_RATIOS` entry ``ratio`` lies within
+    :data:`SIZE_TOLERANCE` of (the nearest), or None."""
+    value, name = min(SIZE_RATIOS, key=lambda vn: abs(ratio / vn[0] - 1.0))
+    return name if abs(ratio / value - 1.0) <= SIZE_TOLERANCE else None
 #: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
 _CITES = ("reuse", "edge", "edge_two")
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
@@ -1121,8 +1128,8 @@ class _Context:
                 theirs = _extent(rbox, axis)
                 if mine <= 0 or theirs <= 1e-9 * max(_extent(rbox, a) for a in range(3)):
                     continue
-                value, name = min(SIZE_RATIOS, key=lambda vn: abs(mine / theirs / vn[0] - 1.0))
-                if abs(mine / theirs / value - 1.0) <= SIZE_TOLERANCE:
+                name = _easy_ratio(mine / theirs)
+                if name is not None:
                     found.setdefault((ref, name), []).append(axis)
                     break
         return [(ref, name, sorted(group))
@@ -1141,15 +1148,11 @@ class _Context:
         lo, hi = (tuple(float(x) for x in detail[k]) for k in ("lo_half", "hi_half"))
         small, large = ("lo", "hi") if max(lo) < max(hi) else ("hi", "lo")
         s_half, l_half = (lo, hi) if small == "lo" else (hi, lo)
-        names = set()
-        for a, b in zip(s_half, l_half):
-            if b <= 0.0:
-                return []
-            value, name = min(SIZE_RATIOS, key=lambda vn: abs(a / b / vn[0] - 1.0))
-            if abs(a / b / value - 1.0) > SIZE_TOLERANCE or value >= 1.0:
-                return []
-            names.add(name)
-        if len(names) != 1:
+        if min(l_half) <= 0.0:
+            return []
+        names = {_easy_ratio(a / b) for a, b in zip(s_half, l_half)}
+        narrower = {name for value, name in SIZE_RATIOS if value < 1.0}
+        if len(names) != 1 or not names <= narrower:  # one easy ratio, a real taper
             return []
         return [spec("taper", small=self.words.face(prim.axis, small),
                      large=self.words.face(prim.axis, large),
