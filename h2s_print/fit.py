@@ -819,9 +819,9 @@ def _round_frustum(part: Part, axis: int, detail: dict[str, Any]) -> bool:
     outline of the vertices next to its smaller end (:data:`ROUND_END_SHARE` of its length)
     must be round: a pyramid on a round plate is not a round part.
     """
-    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
-    if not _round_points(used, axis):
+    if not _round_outline(part, axis):
         return False
+    used = np.asarray(part.vertices, dtype=float)[np.unique(part.faces)]
     small_lo = max(detail["lo_half"]) < max(detail["hi_half"])
     t = used[:, axis]
     lo, hi = float(t.min()), float(t.max())
