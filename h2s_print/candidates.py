@@ -404,7 +404,8 @@ class _Context:
     order: list[str] = field(default_factory=list)
     ancestry: dict[str, dict[str, str]] = field(default_factory=dict)
     counters: dict[str, int] = field(default_factory=dict)
-    seen: set = field(default_factory=set)
+    seen: dict[tuple, str] = field(default_factory=dict)  # (part, box, parents) -> id
+    again: bool = False  # commit hands back stored candidates made again (extend_candidates)
 
 
 def _extent(box: Box, axis: int) -> float:
@@ -543,6 +544,11 @@ def _round_cross(prim: Primitive, box: Box, anchors: Sequence[Anchor],
     return (tuple(new_lo), tuple(new_hi))  # type: ignore[return-value]
 
 
+class _TooMany(SelectionError):
+    """More candidates than ``settings.max_candidates`` (internal: :func:`extend_candidates`
+    gives up quietly, :func:`generate_candidates` lets it through as the user's error)."""
+
+
 class _Generator:
     def __init__(self, ctx: _Context):
         self.ctx = ctx
@@ -630,9 +636,11 @@ class _Generator:
         """Name, dedupe and store a batch of new candidates; returns the stored ones."""
         # Same part, box and parents: keep the cheapest way of anchoring it.
         best: dict[tuple, tuple[Candidate, dict]] = {}
+        stored: set[str] = set()
         for cand, ancestry in batch:
             key = (cand.part, cand.box, cand.parents)
             if key in self.ctx.seen:
+                stored.add(self.ctx.seen[key])
                 continue
             old = best.get(key)
             if old is None or ((cand.cost(self.w_a, self.w_d), _cand_sort_key(cand))
@@ -641,12 +649,12 @@ class _Generator:
         out: list[Candidate] = []
         for key in sorted(best, key=lambda k: _cand_sort_key(best[k][0])):
             cand, ancestry = best[key]
-            self.ctx.seen.add(key)
             parts = sorted({self.ctx.cands[p].part for p in cand.parents})
             prefix = f"{cand.part}<{'+'.join(parts)}"
             k = self.ctx.counters.get(prefix, 0) + 1
             self.ctx.counters[prefix] = k
             named = _replace_id(cand, f"{prefix}#{k}")
+            self.ctx.seen[key] = named.id
             if named.id in self.ctx.cands:
                 raise SelectionError(
                     f"candidate id {named.id!r} (a candidate of part {cand.part!r}) clashes with "
@@ -656,9 +664,11 @@ class _Generator:
             self.ctx.order.append(named.id)
             self.ctx.ancestry[named.id] = {**ancestry, cand.part: named.id}
             out.append(named)
+        if self.ctx.again:  # made again off this round's parents: they parent the next level
+            out += sorted((self.ctx.cands[i] for i in stored), key=_cand_sort_key)
         limit = self.ctx.settings.max_candidates
         if len(self.ctx.cands) > limit:
-            raise SelectionError(
+            raise _TooMany(
                 f"candidate generation made more than solver.max_candidates = {limit} "
                 f"candidates ({len(self.ctx.cands)} so far, {len(self.ctx.prims)} parts); "
                 "raise solver.max_candidates or lower solver.depth")
@@ -1046,12 +1056,20 @@ class _Generator:
         return [c for c, _ in _diverse([(c, self.ctx.ancestry[c.id]) for c in cands], k,
                                        self.w_a, self.w_d, ordered)]
 
-    def run(self) -> None:
+    def run(self, seeds: Mapping[str, str] | None = None) -> None:
+        """Every level of candidates: off the originals, or with ``seeds`` (part -> a stored
+        candidate, :func:`extend_candidates`) off those alone, each new level off the seeds
+        and the level before."""
         ctx = self.ctx
-        for part in sorted(ctx.prims):
-            self.add_original(ctx.prims[part])
-        pool: dict[str, list[str]] = {p: [p] for p in ctx.prims if ctx.prims[p].type != "custom"}
-        fresh: frozenset[str] = frozenset()
+        if seeds is None:
+            for part in sorted(ctx.prims):
+                self.add_original(ctx.prims[part])
+            base = {p: [p] for p in ctx.prims if ctx.prims[p].type != "custom"}
+            fresh: frozenset[str] = frozenset()
+        else:
+            base = {p: [seeds[p]] for p in sorted(seeds) if ctx.prims[p].type != "custom"}
+            fresh = frozenset(base[p][0] for p in base)
+        pool: dict[str, list[str]] = {p: list(ids) for p, ids in base.items()}
         for level in range(1, ctx.settings.depth + 1):
             batch: list[tuple[Candidate, dict]] = []
             for part in sorted(ctx.prims):
@@ -1077,13 +1095,13 @@ class _Generator:
             grouped: dict[str, list[Candidate]] = {}
             for c in new:
                 grouped.setdefault(c.part, []).append(c)
-            pool = {p: [p] for p in ctx.prims if ctx.prims[p].type != "custom"}
+            pool = {p: list(ids) for p, ids in base.items()}
             fresh_ids: set[str] = set()
             for part, cs in grouped.items():
                 # every new candidate, best of each ancestor set first: each child takes the
                 # first few it may use (``usable``)
                 chosen = [c.id for c in self.best_diverse(cs, len(cs), ordered=False)]
-                pool[part] = pool[part] + chosen
+                pool[part] = pool.get(part, []) + chosen
                 fresh_ids.update(chosen)
             fresh = frozenset(fresh_ids)
 
@@ -1180,6 +1198,67 @@ def generate_candidates(primitives: Sequence[Primitive], relations: Sequence[Rel
     Raises:
         SelectionError: inconsistent input, or more than ``settings.max_candidates``.
     """
+    ctx = _context(primitives, relations, settings)
+    _Generator(ctx).run()
+    ordered = _ordered(ctx, ctx.order)
+    log.info("%d candidates for %d parts", len(ordered), len(ctx.prims))
+    return ordered
+
+
+def extend_candidates(primitives: Sequence[Primitive], relations: Sequence[Relation],
+                      settings: SolverSettings, candidates: Sequence[Candidate],
+                      seeds: Iterable[str]) -> tuple[Candidate, ...]:
+    """New candidates hanging off ``seeds`` (one candidate id per part, from ``candidates``:
+    a selection), ``settings.depth`` levels deep, made and pruned exactly as
+    :func:`generate_candidates` makes its levels off the originals.
+
+    Pruning keeps few options per axis, part and level (``AXIS_OPTIONS``,
+    ``CANDIDATES_PER_PART``, ``PARENTS_PER_PART``), so a cheap way of anchoring a part off
+    the parts it will really be drawn with can be cut for cheaper ways off candidates that
+    are never selected (the IKEA table: a leg's top at the top's underside, off the top
+    alone, lost to pairs of other legs' originals).  Offered only the selected candidates,
+    the generator reaches them.  Every candidate given is kept (the new ones only add to
+    them), so a selection over both costs at most what the seeds' selection cost.
+
+    Returns:
+        the new candidates only (ids continue each prefix's count), sorted as
+        :func:`generate_candidates` sorts; empty when more would exceed
+        ``settings.max_candidates`` (said in the log).
+    """
+    ctx = _context(primitives, relations, settings)
+    by_id = {c.id: c for c in candidates}
+    for c in sorted(candidates, key=lambda c: c.depth):  # parents are shallower
+        ctx.cands[c.id] = c
+        ctx.order.append(c.id)
+        ancestry = {c.part: c.id}
+        for pid in c.parents:
+            ancestry.update(ctx.ancestry[pid])
+        ctx.ancestry[c.id] = ancestry
+        if not c.original:
+            ctx.seen[(c.part, c.box, c.parents)] = c.id
+            prefix, _, k = c.id.rstrip("*").rpartition("#")
+            ctx.counters[prefix] = max(ctx.counters.get(prefix, 0), int(k))
+    known = len(ctx.order)
+    ctx.again = True
+    start = {by_id[cid].part: cid for cid in seeds}
+    try:
+        _Generator(ctx).run(start)
+    except _TooMany as err:
+        log.info("no candidates beyond the selection: %s", err)
+        return ()
+    return _ordered(ctx, ctx.order[known:])
+
+
+def _ordered(ctx: _Context, ids: Sequence[str]) -> tuple[Candidate, ...]:
+    """``ids``' candidates sorted by part, the original first, then in generation order."""
+    index = {cid: i for i, cid in enumerate(ctx.order)}
+    return tuple(sorted((ctx.cands[cid] for cid in ids),
+                        key=lambda c: (c.part, not c.original, index[c.id])))
+
+
+def _context(primitives: Sequence[Primitive], relations: Sequence[Relation],
+             settings: SolverSettings) -> _Context:
+    """The generator's bookkeeping for these primitives and relations, no candidate yet."""
     primitives = tuple(primitives)
     relations = tuple(relations)
     _check_inputs(primitives, relations)
@@ -1198,10 +1277,5 @@ def generate_candidates(primitives: Sequence[Primitive], relations: Sequence[Rel
         if r.detail.get("preserved"):
             preserved.setdefault(r.a, []).append((r.b, r))
             preserved.setdefault(r.b, []).append((r.a, r))
-    ctx = _Context(settings=settings, prims=prims, a_ref=a_ref, coplanar=coplanar,
-                   preserved=preserved, start=start_part(primitives))
-    _Generator(ctx).run()
-    index = {cid: i for i, cid in enumerate(ctx.order)}
-    ordered = sorted(ctx.cands.values(), key=lambda c: (c.part, not c.original, index[c.id]))
-    log.info("%d candidates for %d parts", len(ordered), len(prims))
-    return tuple(ordered)
+    return _Context(settings=settings, prims=prims, a_ref=a_ref, coplanar=coplanar,
+                    preserved=preserved, start=start_part(primitives))

@@ -65,11 +65,69 @@ def build_plan(spec: ModelSpec, settings: SolverSettings) -> Plan:
     model = load_model(spec)
     primitives = fit_primitives(model)
     relations = detect_relations(primitives)
-    candidates = generate_candidates(primitives, relations, settings)
-    selection = select_candidates(candidates, relations, settings)
+    candidates, selection = choose(primitives, relations, settings)
     # selected candidates whose parents were stood in for (select docstring) join the list
     candidates = tuple(candidates) + tuple(selection.stand_ins)
     return Plan(model, primitives, relations, candidates, selection, settings)
+
+
+#: Rounds of candidates made off the selection (:func:`choose`) at most.
+REFINE_ROUNDS = 2
+
+
+def choose(primitives: Sequence[Primitive], relations: Sequence[Relation],
+           settings: SolverSettings) -> tuple[tuple[Any, ...], Any]:
+    """Stages 4-5: the candidates and the selection among them.
+
+    Candidates are made off the originals and one is selected per part (stages 4, 5).  Then,
+    up to :data:`REFINE_ROUNDS` times, more are made off the selected candidates alone
+    (``candidates.extend_candidates``: pruning had cut them for ways off candidates never
+    selected) and the selection is solved again over its *neighbourhood*: the originals, the
+    selected candidates and the new ones, with every ancestor they need.  The earlier
+    selection is among them, so a round never costs more; a round that finds nothing cheaper
+    is dropped and ends the search.
+
+    Returned: the candidates of the last solve accepted, which is what the selection is
+    proven optimal over (plan.json lists exactly those), and that selection.  Solving the
+    neighbourhood rather than every candidate made keeps the solves small (the train's
+    first round: 437 candidates, 0.21 s, against 845 and 1.3 s for the same optimum).
+    """
+    from .candidates import extend_candidates, generate_candidates
+    from .select import select_candidates
+
+    candidates = generate_candidates(primitives, relations, settings)
+    selection = select_candidates(candidates, relations, settings)
+    made = {c.id: c for c in candidates}  # every candidate made (ids stay unique)
+    for _ in range(REFINE_ROUNDS):
+        seeds = [cid.rstrip("*") for cid in selection.chosen]
+        more = extend_candidates(primitives, relations, settings, tuple(made.values()), seeds)
+        if not more:
+            break
+        made.update((c.id, c) for c in more)
+        keep: set[str] = set()
+        todo = [*seeds, *(c.id for c in more)]
+        while todo:
+            cid = todo.pop()
+            if cid not in keep:
+                keep.add(cid)
+                todo.extend(made[cid].parents)
+        near = _sorted_candidates([c for c in made.values() if c.original or c.id in keep])
+        better = select_candidates(near, relations, settings, shallow=True, hint=seeds)
+        if not better.objective < selection.objective - 1e-9 * max(1.0, selection.objective):
+            break
+        log.info("selection off the selection: objective %.6f -> %.6f (%d more candidates)",
+                 selection.objective, better.objective, len(more))
+        candidates, selection = near, better
+    return tuple(candidates), selection
+
+
+def _sorted_candidates(cands: Sequence[Any]) -> tuple[Any, ...]:
+    """By part, the original first, then by id's generation count (ids per prefix count
+    up, ``candidates.generate_candidates``'s order within a part)."""
+    def key(c: Any) -> tuple:
+        prefix, _, k = c.id.rpartition("#")
+        return (c.part, not c.original, prefix if k else "", int(k) if k.isdigit() else 0)
+    return tuple(sorted(cands, key=key))
 
 
 # ----------------------------------------------------------------------------- JSON

@@ -198,10 +198,13 @@ def _check(candidates: Sequence[Candidate], relations: Sequence[Relation],
 
 def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[Relation],
                           settings: SolverSettings, *, shallow: bool = False,
-                          exclude: Sequence[Sequence[str]] = ()) -> SelectionModel:
+                          exclude: Sequence[Sequence[str]] = (),
+                          hint: Sequence[str] = ()) -> SelectionModel:
     """Build (do not solve) the SCIP model for ``settings.formulation``; ``shallow`` limits
     stand-ins to candidates no deeper than the parent (module docstring); each selection in
-    ``exclude`` (candidate ids) is cut off.
+    ``exclude`` (candidate ids) is cut off; ``hint``, a selection (candidate ids, one per
+    part), is handed to SCIP as a start solution besides the all-originals one when it is
+    one.
 
     Raises:
         SelectionError: unknown formulation, duplicate ids, dangling parents.
@@ -277,20 +280,26 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
         n += 1
     scip.setObjective(quicksum(costs[c.id] * pick[c.id] for c in cands), sense="minimize")
 
+    def offer(ids: Sequence[str]) -> bool:
+        """Hand SCIP a start solution; False when it is not one."""
+        sol = scip.createSol()
+        chosen = set(ids)
+        for c in cands:
+            scip.setSolVal(sol, pick[c.id], 1.0 if c.id in chosen else 0.0)
+        for group, var in anys.items():
+            scip.setSolVal(sol, var, 1.0 if chosen.intersection(group) else 0.0)
+        if not scip.checkSol(sol):
+            scip.freeSol(sol)
+            return False
+        return bool(scip.addSol(sol, free=True))
+
     start: tuple[str, ...] = ()
     if all(any(c.original for c in by_part[p]) for p in by_part):
         start = tuple(c.id for c in cands if c.original)
-        sol = scip.createSol()
-        chosen = set(start)
-        for c in cands:
-            scip.setSolVal(sol, pick[c.id], 1.0 if c.id in chosen else 0.0)
-        for ids, var in anys.items():
-            scip.setSolVal(sol, var, 1.0 if chosen.intersection(ids) else 0.0)
-        if not scip.checkSol(sol):  # a bug in the rows above, never the input's fault
-            scip.freeSol(sol)
+        if not offer(start):  # a bug in the rows above, never the input's fault
             log.warning("the all-originals start is not a solution of the selection model")
-        elif not scip.addSol(sol, free=True):
-            log.warning("SCIP rejected the all-originals start solution")
+    if hint and all(i in pick for i in hint):
+        offer(hint)  # an earlier selection (plan.choose); with shallow stand-ins it may not be
     return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
                           start=start, n_constraints=n, n_vars=len(pick) + len(anys),
                           settings=settings,
@@ -438,7 +447,8 @@ def _stand_in(cands: Sequence[Candidate], subs: dict[tuple[str, str], tuple[str,
 
 
 def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relation],
-                      settings: SolverSettings) -> Selection:
+                      settings: SolverSettings, *, shallow: bool = False,
+                      hint: Sequence[str] = ()) -> Selection:
     """Choose one candidate per part: valid (eq. 1-3) and of least weighted cost.
 
     Args:
@@ -453,10 +463,10 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
         SelectionError: bad input or no valid selection found.
     """
     exclude: list[tuple[str, ...]] = []
-    for _ in range(CYCLE_RETRIES):
+    for _ in range(0 if shallow else CYCLE_RETRIES):
         try:
             return solve_selection_model(build_selection_model(candidates, relations, settings,
-                                                               exclude=exclude))
+                                                               exclude=exclude, hint=hint))
         except _Cycle as cycle:
             # the selection's stand-ins closed a cycle: cut that selection off, solve again
             log.info("stand-ins closed a cycle among %s; that selection is cut off",
@@ -464,10 +474,11 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
             exclude.append(cycle.chosen)
     # still cycles: stand-ins never deeper than the parent they stand in for (acyclic by
     # construction; optimal for that formulation)
-    log.info("stand-ins closed a cycle %d times; solving with shallow stand-ins",
-             CYCLE_RETRIES)
+    if not shallow:
+        log.info("stand-ins closed a cycle %d times; solving with shallow stand-ins",
+                 CYCLE_RETRIES)
     return solve_selection_model(build_selection_model(candidates, relations, settings,
-                                                       shallow=True))
+                                                       shallow=True, hint=hint))
 
 
 #: Selections whose stand-ins closed a cycle cut off before falling back to shallow stand-ins.
