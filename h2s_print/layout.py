@@ -118,6 +118,7 @@ STYLES: dict[str, LineStyle] = {
     "guide_new": LineStyle("orange", 0.35, (2.4, 1.2)),
     "guide_reused": LineStyle("blue", 0.35, (2.4, 0.9, 0.5, 0.9)),
     "guide_idle": LineStyle("blue", 0.2, (0.4, 1.0)),
+    "guide_sheet": LineStyle("blue", 0.3, (2.0, 1.0)),  # as the sheet prints them
     "vanishing": LineStyle("lightgrey", 0.2, (5.0, 2.0)),
     "corner": LineStyle("green", 0.8),
     "frame": LineStyle("lightgrey", 0.2),
@@ -508,7 +509,8 @@ def _step_guides(plan: ViewPlan, i: int) -> list[tuple[Guide, str]]:
     out: list[tuple[Guide, str]] = []
     used = set()
     for g in step.guides:
-        out.append((g, "guide_new" if g.status == "new" else "guide_reused"))
+        out.append((g, "guide_sheet" if g.role == "sheet"
+                    else "guide_new" if g.status == "new" else "guide_reused"))
         used.add(g.id)
     for gid in step.alive:
         if gid in used:
@@ -520,7 +522,7 @@ def _step_guides(plan: ViewPlan, i: int) -> list[tuple[Guide, str]]:
                 used.add(gid)
                 break
     # Draw idle first (under), then reused, then new on top.
-    order = {"guide_idle": 0, "guide_reused": 1, "guide_new": 2}
+    order = {"guide_sheet": 0, "guide_idle": 1, "guide_reused": 2, "guide_new": 3}
     return sorted(out, key=lambda gs: order[gs[1]])
 
 
@@ -704,11 +706,17 @@ def _drawing(view: _View, plan: ViewPlan, i: int) -> list[Item]:
             key = {"contour": "ink", "scaffold_hidden": "earlier_hidden",
                    "ellipse_hidden": "earlier_hidden"}.get(s.kind, "earlier")
             items += view.lines(s.points_mm, STYLES[key], f"stroke_{key}")
-    for g, key in _step_guides(plan, i):
-        items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
+    guides = _step_guides(plan, i)
+    for g, key in guides:
+        if key != "guide_sheet":
+            items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
     for s in step.strokes:
         key = "new_hidden" if s.kind in ("scaffold_hidden", "ellipse_hidden") else "new"
         items += view.lines(s.points_mm, STYLES[key], "stroke_new")
+    # the sheet's printed lines over the box drawn on them: they are the box's own edges
+    for g, key in guides:
+        if key == "guide_sheet":
+            items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
     return items
 
 
@@ -1280,10 +1288,13 @@ def _steps_per_page(plan: ViewPlan) -> int:
 
 def _legend_keys(plan: ViewPlan) -> list[str]:
     # the new part's hidden edges have a key of their own: dotted orange read as "new guide"
-    keys = ["earlier", "earlier_hidden", "ink", "new", "new_hidden", "guide_new", "guide_reused",
-            "guide_idle", "vanishing", "corner"]
-    if not any(step.guides for step in plan.steps):  # master and basic: no guide styles to explain
-        keys = [k for k in keys if not k.startswith("guide_")]
+    keys = ["earlier", "earlier_hidden", "ink", "new", "new_hidden", "guide_sheet", "guide_new",
+            "guide_reused", "guide_idle", "vanishing", "corner"]
+    roles = {g.role for step in plan.steps for g in step.guides}
+    if not roles - {"sheet"}:  # master and basic: no constructed guide to explain
+        keys = [k for k in keys if not k.startswith("guide_") or k == "guide_sheet"]
+    if "sheet" not in roles:
+        keys.remove("guide_sheet")
     return keys
 
 

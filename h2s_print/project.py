@@ -327,3 +327,46 @@ def edge_exit(camera: Camera, vp: VanishingPoint, *, inset_mm: float = 0.0,
     point = centre + t * np.array([dx, dy])
     distance = math.inf if vp.xy_mm is None else float(np.hypot(*(np.array(vp.xy_mm) - point)))
     return EdgeExit((float(point[0]), float(point[1])), (float(dx), float(dy)), distance, side)
+
+
+Point3 = tuple[float, float, float]
+
+
+@dataclass(frozen=True, slots=True)
+class FirstBoxLines:
+    """What the calibrated sheet prints of the first box (the tutorial's first scaffold step):
+    its bottom face, the ground the drawing stands on, and its upright edge nearest the eye,
+    which gives its height (every later size is measured against this box).
+
+    Attributes:
+        footprint: the bottom face's corners in order around it (3D, model units).
+        height: ``(bottom, top)`` of the nearest upright edge, or ``None`` for a flat box.
+    """
+
+    footprint: tuple[Point3, Point3, Point3, Point3]
+    height: tuple[Point3, Point3] | None
+
+
+def first_box_lines(camera: Camera, points3d: Any) -> FirstBoxLines | None:
+    """The sheet's lines of the box around ``points3d`` (the first scaffold step's stroke
+    points; :class:`FirstBoxLines`), or ``None`` when there are none or the footprint is not
+    wholly in front of the camera.  The nearest edge is the corner column closest to the
+    eye in plan (ties: the smaller corner)."""
+    pts = np.asarray(points3d, dtype=float).reshape(-1, 3)
+    if len(pts) == 0:
+        return None
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    z = float(lo[2])
+    xs, ys = (float(lo[0]), float(hi[0])), (float(lo[1]), float(hi[1]))
+    foot = ((xs[0], ys[0], z), (xs[1], ys[0], z), (xs[1], ys[1], z), (xs[0], ys[1], z))
+    if np.any(camera.depth(foot) <= 0):
+        return None
+    height = None
+    if hi[2] > lo[2]:
+        eye = np.asarray(camera.position, dtype=float)
+        x, y = min(((x, y) for x in xs for y in ys),
+                   key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+        ends = ((x, y, z), (x, y, float(hi[2])))
+        if not np.any(camera.depth(ends) <= 0):
+            height = ends
+    return FirstBoxLines(foot, height)

@@ -173,7 +173,7 @@ from .occlude import (Solid, box_solid, cylinder_solid, hidden, outward_normals,
 from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, line_runs,
                            points_key, spec, unique_specs)
 from .order import drawing_order, part_size, start_part
-from .project import make_camera, vanishing_points, vp_side
+from .project import FirstBoxLines, first_box_lines, make_camera, vanishing_points, vp_side
 from .ratios import entry_for
 from .types import Box, Camera, Guide, Label, Part, Step, Stroke, VanishingPoint, Vec3, ViewPlan
 
@@ -522,14 +522,42 @@ def _mostly_on(a: np.ndarray, b: np.ndarray, p: np.ndarray, q: np.ndarray, tol: 
     return min(tb, n) - max(ta, 0.0) > 0.5 * length
 
 
-def _first_specs(strokes: Sequence[Stroke]) -> list[Spec]:
+def _first_lines(strokes: Sequence[Stroke], camera: Camera) -> FirstBoxLines | None:
+    """What the sheet prints of the box of the first step's ``strokes``
+    (:func:`h2s_print.project.first_box_lines`; the sheet reads the same)."""
+    return first_box_lines(camera, [p for s in strokes for p in s.points3d])
+
+
+def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
     """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
-    (printed on the sheet too, :func:`h2s_print.sheet.first_near_edge`) when it has a
-    height, then its edges and the paper corners."""
-    z = [p[2] for s in strokes for p in s.points3d]
-    tall = bool(z) and max(z) > min(z)
+    (printed on the sheet too) when it has a height, then its edges and the paper corners."""
+    tall = lines is not None and lines.height is not None
     return [spec("first_footprint"), *([spec("first_height")] if tall else []),
             spec("first_edges"), spec("first_corners")]
+
+
+#: Guide ids of the sheet's printed lines on the first step (:func:`_sheet_guides`).
+SHEET_GUIDE = "sheet"
+
+
+def _sheet_guides(lines: FirstBoxLines | None, camera: Camera) -> tuple[Guide, ...]:
+    """The first step's guides that the calibrated sheet prints (role ``sheet``): the first
+    box's footprint, edge by edge, and its nearest upright edge.  The first box is drawn on
+    them, not by eye; they are new in that step (status ``new``) and shown only there (the
+    box's own edges cover them after).  Novice and apprentice only: a master sees no guides
+    (DESIGN.md §2.6)."""
+    if lines is None:
+        return ()
+    foot = lines.footprint
+    segs = [(foot[k], foot[(k + 1) % 4]) for k in range(4)]
+    if lines.height is not None:
+        segs.append(lines.height)
+    out = []
+    for k, (a, b) in enumerate(segs, start=1):
+        mm = camera.project(np.array([a, b], dtype=float))
+        out.append(Guide(f"{SHEET_GUIDE}{k}", "new", a, b, (float(mm[0, 0]), float(mm[0, 1])),
+                         (float(mm[1, 0]), float(mm[1, 1])), "sheet"))
+    return tuple(out)
 
 
 def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
@@ -1333,7 +1361,7 @@ class _Context:
         name = self.say(part)
         note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:
-            subs = self.lettered([*_first_specs(strokes), *repeat])
+            subs = self.lettered([*_first_specs(_first_lines(strokes, self.camera)), *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
@@ -2110,7 +2138,8 @@ class _Context:
                 head = _t("headline.first" if i == 0 else "headline.basic",
                           Part=_cap(self.say(p)), shape=shape)
                 lines = _scaffold(p, prim, prim.box, self.camera, self.tol)
-                subs = tuple(_first_specs(lines)) if i == 0 else (spec("basic_part"),)
+                subs = (tuple(_first_specs(_first_lines(lines, self.camera))) if i == 0
+                        else (spec("basic_part"),))
                 drafts.append(_Draft(p, "basic", True, (), lines, head, subs))
             drafts += [d for p in order if _round(self.plan.primitive(p))
                        for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
@@ -2173,6 +2202,14 @@ class _Context:
             a, b = self._canon[gid]
             p = self.camera.project(np.array([a, b], dtype=float))
             mm[gid] = ((float(p[0, 0]), float(p[0, 1])), (float(p[1, 0]), float(p[1, 1])))
+        # the sheet prints the first box's footprint and height: the first scaffold step's
+        # guides where the level shows guides (DESIGN.md §2.6: a master sees none, and the
+        # control tutorial has none)
+        start = next((i for i, d in enumerate(drafts) if d.kind == "primitive" and d.strokes),
+                     None)
+        printed = (() if start is None or not LEVEL_ROLES[level]
+                   else _sheet_guides(_first_lines(drafts[start].strokes, self.camera),
+                                      self.camera))
         steps = []
         for i, (d, gs) in enumerate(zip(drafts, shown)):
             guides = tuple(
@@ -2180,6 +2217,9 @@ class _Context:
                       self._canon[gid][1], mm[gid][0], mm[gid][1], role)
                 for gid, role in gs)
             alive = tuple(g for g in ordered if first[g] <= i <= last[g])
+            if i == start and printed:
+                guides = printed + guides
+                alive = tuple(g.id for g in printed) + alive
             box = None
             if d.part is not None and d.kind in ("primitive", "basic", "contour"):
                 box = (self.plan.primitive(d.part).box if level == "basic"

@@ -23,7 +23,7 @@ from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt
                      _arrow, _clip_segment, _crossings, _frame_box, _green_corners, _level_name,
                      _segments, _t, clip_polyline, fit_line, plain_text, text_width_mm,
                      vp_names)
-from .project import edge_exit, horizon_mm
+from .project import FirstBoxLines, edge_exit, first_box_lines, horizon_mm
 from .types import ViewPlan
 
 
@@ -42,16 +42,19 @@ def _horizon(plan: ViewPlan) -> tuple[float, float, float] | None:
     return (a, b, -(a * x0 + b * y0))
 
 
-def _first_box(plan: ViewPlan) -> tuple[str, np.ndarray, np.ndarray] | None:
-    """The first scaffold step's part and the 3D box ``(lo, hi)`` around its stroke points."""
+def _first_lines(plan: ViewPlan) -> tuple[str, FirstBoxLines] | None:
+    """The first scaffold step's part and what the sheet prints of its box
+    (:func:`h2s_print.project.first_box_lines`, the definition step 1's sheet guides share)."""
     for step in plan.steps:
         if step.kind not in ("primitive", "basic") or not step.strokes:
             continue
-        pts = np.array([p for s in step.strokes for p in s.points3d], dtype=float)
-        if len(pts) == 0:
+        pts = [p for s in step.strokes for p in s.points3d]
+        if not pts:
             continue
-        part = step.part or (step.strokes[0].part if step.strokes else "")
-        return part, pts.min(axis=0), pts.max(axis=0)
+        lines = first_box_lines(plan.camera, pts)
+        if lines is None:
+            return None
+        return step.part or step.strokes[0].part, lines
     return None
 
 
@@ -60,35 +63,21 @@ def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
 
     The face is the bottom (lowest z) face of the 3D box around that step's stroke points.
     """
-    found = _first_box(plan)
+    found = _first_lines(plan)
     if found is None:
         return None
-    part, lo, hi = found
-    z = lo[2]
-    corners = [(lo[0], lo[1], z), (hi[0], lo[1], z), (hi[0], hi[1], z), (lo[0], hi[1], z)]
-    if np.any(plan.camera.depth(corners) <= 0):
-        return None
-    proj = plan.camera.project(corners)
-    return part, tuple((float(x), float(y)) for x, y in proj)
+    proj = plan.camera.project(found[1].footprint)
+    return found[0], tuple((float(x), float(y)) for x, y in proj)
 
 
 def first_near_edge(plan: ViewPlan) -> tuple[Pt, Pt] | None:
     """The first scaffold step's upright edge nearest the camera, projected on the sheet
     ``(bottom, top)`` mm: with the footprint it fixes the first box's height, which every
     later size is measured against (the read-through: step 1 never said how tall)."""
-    found = _first_box(plan)
-    if found is None:
+    found = _first_lines(plan)
+    if found is None or found[1].height is None:
         return None
-    _, lo, hi = found
-    if not hi[2] > lo[2]:
-        return None  # a flat first part: its footprint is all of it
-    eye = np.asarray(plan.camera.position, dtype=float)
-    x, y = min(((x, y) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])),
-               key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
-    ends = [(x, y, lo[2]), (x, y, hi[2])]
-    if np.any(plan.camera.depth(ends) <= 0):
-        return None
-    (bx, by), (tx, ty) = plan.camera.project(ends)
+    (bx, by), (tx, ty) = plan.camera.project(found[1].height)
     return (float(bx), float(by)), (float(tx), float(ty))
 
 

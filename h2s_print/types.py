@@ -239,7 +239,9 @@ class Guide:
         from_mm, to_mm: their projections on the sheet, mm.
         role: ``construction`` (intermediate line, novice only), ``guide`` (the resulting guide
             line, novice and apprentice) or ``vanishing`` (a line toward a vanishing point,
-            also carrying a result line over to the child's face; novice and apprentice).
+            also carrying a result line over to the child's face; novice and apprentice) or
+            ``sheet`` (printed on the calibrated sheet: the first box's footprint and nearest
+            upright edge, on the first scaffold step at novice and apprentice).
     """
 
     id: str

@@ -768,6 +768,60 @@ def test_sheet_shows_the_first_boxs_nearest_upright_edge(examples):
     assert checked == 4
 
 
+def test_step_one_shows_the_lines_the_sheet_prints(examples):
+    """The first box is drawn on the sheet's printed footprint and upright edge, not by eye:
+    step 1 lists them as its guides (role ``sheet``) at novice and apprentice, each the
+    projection of its 3D ends, the footprint the first box's bottom face (the box around the
+    step's strokes) and the sheet's printed lines exactly (same mm); shown at step 1 only,
+    drawn over the box in the sheet's style; never at master or in the control tutorial,
+    which have no guides."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            printed = [(i, g) for i, st in enumerate(vp.steps) for g in st.guides
+                       if g.role == "sheet"]
+            if level in ("basic", "master"):  # no guides at all (DESIGN.md §2.6)
+                assert not printed
+                continue
+            first = next(i for i, st in enumerate(vp.steps) if st.kind == "primitive")
+            assert {i for i, _ in printed} == {first}, (name, view, level)
+            guides = [g for _, g in printed]
+            assert all(g.status == "new" for g in guides)
+            for g in guides:
+                mm = vp.camera.project(np.array([g.from3d, g.to3d], dtype=float))
+                assert np.allclose(mm, [g.from_mm, g.to_mm], atol=1e-9)
+            pts = np.array([p for s in vp.steps[first].strokes for p in s.points3d])
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            foot = [g for g in guides if g.from3d[2] == g.to3d[2]]
+            assert len(foot) == 4
+            corners = {tuple(np.round(g.from3d, 9)) for g in foot}
+            assert corners == {(round(x, 9), round(y, 9), round(lo[2], 9))
+                               for x in (lo[0], hi[0]) for y in (lo[1], hi[1])}
+            upright = [g for g in guides if g.from3d[2] != g.to3d[2]]
+            assert [(g.from3d[2], g.to3d[2]) for g in upright] == [(lo[2], hi[2])]
+            later = vp.steps[first + 1]
+            assert not any(g.id in later.alive for g in guides)
+            # the sheet prints these very lines
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            quad = [it for it in sheet.items if isinstance(it, L.Polyline) and it.role == "ground"]
+            edge = [it for it in sheet.items if isinstance(it, L.Polyline)
+                    and it.role == "ground_edge"]
+            assert len(quad) == 1 and len(edge) == 1
+            ring = {(round(x, 6), round(y, 6)) for x, y in quad[0].points_mm}
+            assert ring == {(round(x, 6), round(y, 6)) for x, y in (g.from_mm for g in foot)}
+            assert np.allclose(sorted(edge[0].points_mm),
+                               sorted([upright[0].from_mm, upright[0].to_mm]), atol=1e-9)
+            # drawn after (over) the box's strokes, in the sheet's dashed blue
+            page_items = L._drawing(L._View((0, 0, *vp.paper_mm), (0, 0, *vp.paper_mm)), vp,
+                                    first)
+            roles = [it.role for it in page_items if isinstance(it, L.Polyline)]
+            assert "guide_sheet" in roles
+            assert max(i for i, r in enumerate(roles) if r == "stroke_new") < min(
+                i for i, r in enumerate(roles) if r == "guide_sheet")
+            checked += 1
+    assert checked >= 8
+
+
 def test_every_line_style_of_a_step_picture_has_a_key(examples):
     """The key under a step explains every style its picture uses: the new part's hidden
     edges (dotted orange) were read as new guides when the key had no entry for them."""
@@ -785,6 +839,7 @@ def test_every_line_style_of_a_step_picture_has_a_key(examples):
                         used.add("new_hidden")
                     elif s.kind in ("scaffold", "ellipse"):
                         used.add("new")
-                used |= {"guide_new" if g.status == "new" else "guide_reused" for g in step.guides}
+                used |= {"guide_sheet" if g.role == "sheet" else "guide_new" if g.status == "new"
+                         else "guide_reused" for g in step.guides}
             assert used <= keys, (name, view, level, used - keys)
             assert "new_hidden" in used  # every example draws a box with hidden edges
