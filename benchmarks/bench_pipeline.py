@@ -15,7 +15,8 @@ set size) is its own.  Stages, timed with ``time.perf_counter`` around each stag
 
 * **load** ``load.load_model``; **fit** ``fit.fit_primitives``; **relate**
   ``relate.detect_relations``; **cand** ``candidates.generate_candidates``; **select**
-  ``select.select_candidates`` (the plan, as ``h2s plan`` without the cache);
+  ``select.select_candidates``; **refine** ``plan.refine`` (the rounds off the
+  selection; these stages are the plan, as ``h2s plan`` without the cache);
 * **seq** ``sequence.sequence_views`` for every view at the config's levels, plus the finished
   drawing per workbook (``sequence.sequence_workbooks``, as the pipeline calls it), *less* the
   time spent in contour tracing and hidden-line removal called from there (the sequence
@@ -49,7 +50,8 @@ sys.path.insert(0, str(REPO / "benchmarks"))
 
 EXAMPLES = ("camera", "mixer", "train", "roller")
 GENERATED = (10, 20, 40, 80)
-STAGES = ("load", "fit", "relate", "cand", "select", "seq", "contours", "layout", "render")
+STAGES = ("load", "fit", "relate", "cand", "select", "refine", "seq", "contours", "layout",
+          "render")
 VIEWS = """views:
   - {name: front-left, azimuth_deg: -35, elevation_deg: 20, distance: 3.0, lens_mm: 50,
      perspective: two-point}
@@ -147,7 +149,7 @@ def measure(config: Path) -> dict[str, Any]:
     from h2s_print.fit import fit_primitives
     from h2s_print.layout import lay_out_workbook
     from h2s_print.load import load_model
-    from h2s_print.plan import Plan
+    from h2s_print.plan import Plan, refine
     from h2s_print.relate import detect_relations
     from h2s_print.render import pdf_bytes
     from h2s_print.select import select_candidates
@@ -168,6 +170,7 @@ def measure(config: Path) -> dict[str, Any]:
     rels = timed("relate", detect_relations, prims)
     cands = timed("cand", generate_candidates, prims, rels, t.solver)
     sel = timed("select", select_candidates, cands, rels, t.solver)
+    cands, sel = timed("refine", refine, prims, rels, t.solver, cands, sel)
     plan = Plan(model, prims, rels, tuple(cands) + tuple(sel.stand_ins), sel, t.solver)
 
     # contour work called from the sequence stage, timed apart

@@ -1070,6 +1070,7 @@ class _Generator:
             base = {p: [seeds[p]] for p in sorted(seeds) if ctx.prims[p].type != "custom"}
             fresh = frozenset(base[p][0] for p in base)
         pool: dict[str, list[str]] = {p: list(ids) for p, ids in base.items()}
+        made_before = set(ctx.cands)
         for level in range(1, ctx.settings.depth + 1):
             batch: list[tuple[Candidate, dict]] = []
             for part in sorted(ctx.prims):
@@ -1081,7 +1082,8 @@ class _Generator:
             restored_batch: list[tuple[Candidate, dict]] = []
             by_part: dict[str, list[Candidate]] = {}
             for c in anchored:
-                by_part.setdefault(c.part, []).append(c)
+                if c.id not in made_before:  # one made again was restored when first made
+                    by_part.setdefault(c.part, []).append(c)
             for part in sorted(by_part):
                 for c in self.best_diverse(by_part[part], RESTORE_PER_PART):
                     restored_batch.extend(self.restore(c))
@@ -1100,6 +1102,9 @@ class _Generator:
             for part, cs in grouped.items():
                 # every new candidate, best of each ancestor set first: each child takes the
                 # first few it may use (``usable``)
+                if seeds is not None:  # off a selection: only what beats the part's seed
+                    bar = ctx.cands[seeds[part]].cost(self.w_a, self.w_d)
+                    cs = [c for c in cs if c.cost(self.w_a, self.w_d) < bar]
                 chosen = [c.id for c in self.best_diverse(cs, len(cs), ordered=False)]
                 pool[part] = pool.get(part, []) + chosen
                 fresh_ids.update(chosen)
