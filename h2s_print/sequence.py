@@ -1449,7 +1449,9 @@ class _Context:
                                     _Unit(ppart))
             unit.anchors.append(anchor)
             around = self.box_around(ppart)
-            if around and ppart not in boxed:  # constructions on a tapered parent start from its box
+            # constructions on a tapered parent start from its box, where they use it: a
+            # point of theirs on an edge of the box that the scaffold does not draw
+            if around and ppart not in boxed and self.uses_box(ppart, around, con):
                 boxed.add(ppart)
                 unit.lines += around
                 seen = self._box_steps.get(ppart)
@@ -1651,6 +1653,28 @@ class _Context:
             rest.append(u)
             groups = grouped(rest)
         return groups + [tail]
+
+    def uses_box(self, part: str, around: Sequence[_Line], con: Any) -> bool:
+        """Does construction ``con`` on tapered ``part`` use its box: does an end of one of its
+        lines lie on a box edge of ``around`` (those the scaffold leaves out) and on no edge
+        the scaffold draws?  Not when it lies on the face the scaffold draws whole (the
+        camera's prism's top, the bowl's rim face)."""
+        prim = self.plan.primitive(part)
+        drawn = [(np.asarray(st.points3d[0], dtype=float), np.asarray(st.points3d[-1], dtype=float))
+                 for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+        missing = [(np.asarray(ln.start, dtype=float), np.asarray(ln.end, dtype=float))
+                   for ln in around]
+
+        def on(p: np.ndarray, segs: list[tuple[np.ndarray, np.ndarray]]) -> bool:
+            for a, b in segs:
+                d = b - a
+                t = float(np.clip(np.dot(p - a, d) / max(float(np.dot(d, d)), 1e-300), 0, 1))
+                if float(np.abs(a + t * d - p).max()) <= self.tol:
+                    return True
+            return False
+
+        ends = [np.asarray(q, dtype=float) for ln in con.lines for q in (ln.start, ln.end)]
+        return any(on(p, missing) and not on(p, drawn) for p in ends)
 
     def box_around(self, part: str) -> list[_Line]:
         """For a part whose scaffold does not draw its selected box's faces (a frustum), the

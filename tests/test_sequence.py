@@ -472,6 +472,53 @@ def test_guides_on_a_tapered_parent_start_from_drawn_lines(examples):
     assert checked  # the camera's flash hangs off the prism in the high-right view
 
 
+def test_the_box_around_a_tapered_parent_is_drawn_only_where_a_construction_needs_it(examples):
+    """The box around a frustum is drawn (its edges as guides) only when the step's other
+    guides start from it: an end of one lies on an edge of that box and on none of the
+    frustum's scaffold lines.  A construction on the face the scaffold draws whole (the
+    mixer's bowl's rim face, under the head) draws no box: it had 7 lines more.  (That a
+    step's guides can be drawn at all is :func:`test_guides_on_a_tapered_parent_start_from_
+    drawn_lines`.)"""
+    without = with_box = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        by_id = {c.id: c for c in plan.candidates}
+        chosen = plan.chosen()
+        tol = _model_tol(plan, 1e-6)
+        scaffold = {s.part: [(st.points3d[0], st.points3d[-1]) for st in s.strokes]
+                    for s in vp.steps if s.kind == "primitive"}
+        for s in vp.steps:
+            if s.kind not in ("primitive", "guides"):
+                continue
+            mine = [(g.from3d, g.to3d) for g in s.guides]
+            tapered = sorted({by_id[a.parent].part for a in chosen[s.part].anchors
+                              if plan.primitive(by_id[a.parent].part).type == "frustum"})
+            for part in tapered:
+                lo, hi = (np.asarray(v, dtype=float) for v in chosen[part].box)
+                corners = [np.array([(lo, hi)[i][0], (lo, hi)[j][1], (lo, hi)[k][2]])
+                           for i in (0, 1) for j in (0, 1) for k in (0, 1)]
+                edges = [(a, b) for a in corners for b in corners
+                         if int(np.sum(np.abs(a - b) > tol)) == 1 and tuple(a) < tuple(b)]
+                drawn = scaffold[part]
+
+                def off_scaffold(p):
+                    return not any(_on_segment(p, q, r, tol) for q, r in drawn)
+
+                box = [ln for ln in mine if off_scaffold(ln[0]) or off_scaffold(ln[1])
+                       if any(_on_segment(ln[0], a, b, tol) and _on_segment(ln[1], a, b, tol)
+                              for a, b in edges)]
+                rest = [ln for ln in mine if ln not in box]
+                used = any(off_scaffold(p) and any(_on_segment(p, a, b, tol) for a, b in edges)
+                           for ln in rest for p in ln)
+                if len(box) >= 4:  # the box around (not one carried line along an edge)
+                    assert used, (name, vp.name, s.index, part)
+                    with_box += 1
+                elif mine and not used:
+                    without += 1
+    assert with_box and without
+
+
 # ----------------------------------------------------------------------------- guides
 
 
