@@ -571,6 +571,18 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
     return [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
 
 
+def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:
+    """Do two units of construction share a point (a line's end, a result's end)?  Then one
+    may use what the other draws, and their order stays."""
+    def points(u: _Unit) -> np.ndarray:
+        pts = [p for ln in u.lines for p in (ln.start, ln.end)] + [p for r in u.results for p in r]
+        return np.asarray(pts, dtype=float).reshape(-1, 3)
+
+    pa, pb = points(a), points(b)
+    return bool(len(pa) and len(pb)
+                and (np.abs(pa[:, None, :] - pb[None, :, :]).max(axis=2) <= tol).any())
+
+
 @dataclass
 class _Unit:
     """The constructions of one primitive step on one parent face: sub-steps, lines, results."""
@@ -1528,7 +1540,11 @@ class _Context:
 
         closing = closing_with([])
         head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
-        groups = self.pack(list(units.values()), closing, head, step)
+        def guides_head(group: list[_Unit]) -> str:
+            gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
+            return _t("headline.guides", part=name, the_parents=gparents)
+
+        groups = self.pack(list(units.values()), closing, head, step, guides_head)
         drafts: list[_Draft] = []
         said: set = set()  # lines an earlier guides step of this part drew: not drawn again
         for k, group in enumerate(groups[:-1]):
@@ -1537,12 +1553,11 @@ class _Context:
                                   if not (x.same and x.same in said)])
             said.update(x.same for x in subs if x.same)
             self.record(group, here, described)
-            gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             gsummary = _t("substep.guides_for", words=_join(_unique(
                 _ratio_words(words, a, self.say(self.by_id[a.parent].part))
                 for u in group for a in u.anchors)))
             drafts.append(_Draft(part, "guides", False, tuple(ln for u in group for ln in u.lines),
-                                 (), _t("headline.guides", part=name, the_parents=gparents), subs,
+                                 (), guides_head(group), subs,
                                  gsummary))
         last = groups[-1]
         here = step + len(groups) - 1
@@ -1604,15 +1619,17 @@ class _Context:
             steps.append(at[0])
         return spec(f"{s.key}_reuse", s.same, s.pair, step=max(steps), **f)
 
-    def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int
-             ) -> list[list["_Unit"]]:
+    def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int,
+             guides_head: Callable[[list["_Unit"]], str]) -> list[list["_Unit"]]:
         """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
-        the last group goes with ``closing`` (the placing sub-steps); one unit alone may
-        exceed the limit (it is not cut).  Lines an earlier group drew are not counted again
-        (they are not said again)."""
+        the last group goes with ``closing`` (the placing sub-steps) under ``head``, the
+        others are guides steps under ``guides_head(group)``; one unit alone may exceed the
+        limit (it is not cut).  Lines an earlier group drew are not counted again (they are
+        not said again)."""
         def fits(group: list[_Unit], extra: list[Spec], said: set) -> bool:
             specs = [x for u in group for x in u.specs if not (x.same and x.same in said)]
-            return self.step_words(specs + extra, head) <= MAX_STEP_WORDS
+            return self.step_words(specs + extra, head if extra else guides_head(group)
+                                   ) <= MAX_STEP_WORDS
 
         if not units or fits(units, closing, set()):
             return [units]
@@ -1642,6 +1659,21 @@ class _Context:
                     groups[-1].append(u)
                 else:
                     groups.append([u])
+            # a group may also join a later one when both fit one step and no group between
+            # them shares a point with it (none uses what it draws): the mixer's head had
+            # guides on the base, on the bowl, then carried from the base, now two steps
+            merged = True
+            while merged:
+                merged = False
+                for i, j in ((i, j) for i in range(len(groups) - 1)
+                             for j in range(len(groups) - 1, i + 1, -1)):
+                    trial = groups[:i] + groups[i + 1:j] + [groups[i] + groups[j]]
+                    if fits(trial[-1], [], said_by(trial[:-1])) and not any(
+                            _touch(u, v, self.tol) for k in range(i + 1, j)
+                            for u in groups[i] for v in groups[k]):
+                        groups = trial + groups[j + 1:]
+                        merged = True
+                        break
             return groups
 
         groups = grouped(rest)

@@ -472,6 +472,43 @@ def test_guides_on_a_tapered_parent_start_from_drawn_lines(examples):
     assert checked  # the camera's flash hangs off the prism in the high-right view
 
 
+def test_every_guide_is_drawn_from_lines_already_on_the_paper(examples):
+    """Guides steps are packed to fewer steps, a group joining a later one when no step
+    between shares a point with it (``sequence._touch``): whatever the order, each step's
+    guides start from the scaffold and the guides drawn before (:func:`_ungrounded`).  The
+    mixer's head, high-right: guides on the base, on the bowl, then carried from the base,
+    now two guides steps (the base's with the carrying)."""
+    merged = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        tol = _model_tol(plan, 1e-6)
+        drawn: list = []
+        for s in vp.steps:
+            if s.kind not in ("primitive", "guides"):
+                continue
+            mine = [(g.from3d, g.to3d) for g in s.guides if g.role != "sheet"]
+            assert not _ungrounded(mine, drawn, tol), (name, vp.name, s.index)
+            drawn += mine + [(st.points3d[0], st.points3d[-1]) for st in s.strokes]
+        heads = [s for s in vp.steps if s.part == "head" and s.kind == "guides"]
+        if name == "mixer" and vp.name == "high-right":
+            assert len(heads) == 2 and "carry" in " ".join(heads[1].substeps).lower()
+            merged += 1
+    assert merged
+
+
+def test_units_touch_when_they_share_a_line_end_or_a_result_end():
+    U, L = seq._Unit, seq._Line
+    a = U("base", lines=[L("construction", (0.0, 0.0, 0.0), (1.0, 1.0, 0.0))],
+          results=[((0.5, 0.0, 0.0), (0.5, 1.0, 0.0))])
+    b = U("base", lines=[L("vanishing", (0.5, 1.0, 0.0), (0.5, 1.0, 5.0))])  # from a's result
+    c = U("bowl", lines=[L("construction", (3.0, 3.0, 0.0), (4.0, 4.0, 0.0))])
+    near = U("bowl", lines=[L("construction", (1.0, 1.0, 1e-7), (2.0, 2.0, 0.0))])
+    assert seq._touch(a, b, 1e-6) and seq._touch(b, a, 1e-6)
+    assert not seq._touch(a, c, 1e-6) and not seq._touch(b, c, 1e-6)
+    assert seq._touch(a, near, 1e-6) and not seq._touch(a, near, 1e-8)
+
+
 def test_the_box_around_a_tapered_parent_is_drawn_only_where_a_construction_needs_it(examples):
     """The box around a frustum is drawn (its edges as guides) only when the step's other
     guides start from it: an end of one lies on an edge of that box and on none of the
