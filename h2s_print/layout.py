@@ -761,6 +761,23 @@ def _crossings(segs: np.ndarray, box: Box2) -> int:
     return int(np.count_nonzero(~((sides > 0).all(axis=0) | (sides < 0).all(axis=0))))
 
 
+def _crossings_many(segs: np.ndarray, boxes: Sequence[Box2]) -> np.ndarray:
+    """:func:`_crossings` of each of ``boxes``, at once: an int array, one count a box."""
+    if not len(boxes):
+        return np.zeros(0, dtype=int)
+    if not len(segs):
+        return np.zeros(len(boxes), dtype=int)
+    b = np.asarray(boxes, dtype=float)[:, :, None]  # (k, 4, 1)
+    sx0, sy0, sx1, sy1 = segs.T  # (n,)
+    near = ((np.minimum(sx0, sx1) <= b[:, 2]) & (np.maximum(sx0, sx1) >= b[:, 0])
+            & (np.minimum(sy0, sy1) <= b[:, 3]) & (np.maximum(sy0, sy1) >= b[:, 1]))  # (k, n)
+    dx, dy = sx1 - sx0, sy1 - sy0
+    corners = ((b[:, 0], b[:, 1]), (b[:, 2], b[:, 1]), (b[:, 2], b[:, 3]), (b[:, 0], b[:, 3]))
+    sides = np.stack([dx * (cy - sy0) - dy * (cx - sx0) for cx, cy in corners])  # (4, k, n)
+    cut = ~((sides > 0).all(axis=0) | (sides < 0).all(axis=0))
+    return np.count_nonzero(near & cut, axis=1)
+
+
 def _boxes_overlap(a: Box2, b: Box2) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
@@ -795,6 +812,7 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
         for ri, r in enumerate(rings):
             if best is not None and r in LABEL_RADII_FAR_MM:
                 break  # the far rings only when nothing nearer is free
+            free: list[tuple[int, float, float, Box2, bool]] = []
             for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
                 norm = math.hypot(ux, uy) or 1.0
                 cx, cy = dx + r * ux / norm, dy + r * uy / norm
@@ -813,7 +831,10 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
                 ambiguous = any(math.hypot(mx - ox, my - oy) < own
                                 for j, (ox, oy) in enumerate(dots)
                                 if j != k and labels[j].kind == "point")
-                score = (ambiguous, _crossings(segs, box) + ri, di)
+                free.append((di, bx0, by0, box, ambiguous))
+            crossed = _crossings_many(segs, [f[3] for f in free]).tolist()
+            for (di, bx0, by0, _, ambiguous), n in zip(free, crossed):
+                score = (ambiguous, n + ri, di)
                 if best is None or score < best[0]:
                     best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
                                         "start", "blue" if part else "black",

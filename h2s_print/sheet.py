@@ -20,7 +20,8 @@ from . import templates
 from .errors import RenderError
 from .config import MIN_MARGIN_MM
 from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt, Rect, Text,
-                     _arrow, _clip_segment, _crossings, _frame_box, _green_corners, _level_name,
+                     PT_MM, _arrow, _clip_segment, _crossings, _crossings_many, _frame_box,
+                     _green_corners, _level_name,
                      _segments, _t, clip_polyline, fit_line, plain_text, text_width_mm,
                      vp_names)
 from .project import FirstBoxLines, edge_exit, first_box_lines, horizon_mm
@@ -162,17 +163,24 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                 & (np.maximum(avoid[:, 1], avoid[:, 3]) >= y0))
         arrows = np.vstack([arrows, avoid[near]])
 
-    def clear(dx: float, dy: float) -> bool:
+    def clear(offs: np.ndarray) -> np.ndarray:
+        """For each shift ``(dx, dy)`` of ``offs``: does the block fit there?  (Each text's
+        box as :meth:`Text.box_at` computes it, the same floating-point operations.)"""
+        ok = np.ones(len(offs), dtype=bool)
         for t in block:
-            b = t.box_at(t.x_mm + dx, t.y_mm + dy)
-            if b[0] < frame[0] or b[2] > frame[2] or b[1] < frame[1] or b[3] > frame[3]:
-                return False
-            if any(b[0] < p[2] + 3.0 and p[0] < b[2] + 3.0 and b[1] < p[3] + 1.0
-                   and p[1] < b[3] + 1.0 for p in placed):  # 3 mm apart along a line, 1 mm across
-                return False
-            if _crossings(arrows, (b[0] - 1.0, b[1] - 0.5, b[2] + 1.0, b[3] + 0.5)):
-                return False
-        return True
+            width = text_width_mm(t.string, t.size_pt, t.font)
+            size = t.size_pt * PT_MM
+            b0 = (t.x_mm + offs[:, 0]) - {"start": 0.0, "middle": width / 2, "end": width}[t.anchor]
+            y = t.y_mm + offs[:, 1]
+            b1, b2, b3 = y - 0.21 * size, b0 + width, y + 0.72 * size
+            ok &= ~((b0 < frame[0]) | (b2 > frame[2]) | (b1 < frame[1]) | (b3 > frame[3]))
+            for p in placed:  # 3 mm apart along a line, 1 mm across
+                ok &= ~((b0 < p[2] + 3.0) & (p[0] < b2 + 3.0) & (b1 < p[3] + 1.0)
+                        & (p[1] < b3 + 1.0))
+            if ok.any():
+                boxes = np.stack([b0 - 1.0, b1 - 0.5, b2 + 1.0, b3 + 0.5], axis=1)
+                ok[ok] = _crossings_many(arrows, boxes[ok]) == 0
+        return ok
 
     # along the edge first, then also away from it, nearest first (2 mm steps, up to 60 mm)
     shifts = sorted(((a, c) for a in range(-30, 31) for c in range(-10, 11)),
@@ -185,10 +193,11 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                             for b in (t.box_mm for t in block)])
         at = (offsets[:, None, :] + middles[None, :, :]).reshape(-1, 2)
         free = ~_in_convex_all(inside, at).reshape(len(offsets), len(block)).any(axis=1)
-    for (dx, dy), ok in zip(offsets.tolist(), free.tolist()):
-        if not ok:
-            continue
-        if clear(dx, dy):
+    tried = offsets[free]
+    for start in range(0, len(tried), 64):  # nearest first, 64 places at a time
+        fit = np.flatnonzero(clear(tried[start:start + 64]))
+        if len(fit):
+            dx, dy = tried[start + int(fit[0])].tolist()
             return [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
     return None
 
