@@ -1520,9 +1520,10 @@ class _Context:
                         for axis, turn, runs in carries]
         if extended:
             carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))
+        carry_unit: _Unit | None = None
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
-            units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part, carrying,
-                                      carry_lines)
+            carry_unit = units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part,
+                                                   carrying, carry_lines)
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
             if anchor.end == "mid":
@@ -1565,7 +1566,10 @@ class _Context:
         mine = _citations(groups[:-1], step) + [x for u in last for x in u.specs if not (x.same and x.same in said)]
         subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
         self.record(last, here, described)
+        # the box is drawn on the carried lines: carried in a guides step, they stay (the
+        # read-through found them erased before the step that uses them)
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
+                 + [ln for u in before if u is carry_unit for ln in u.lines]
                  + [ln for u in last for ln in u.lines])
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
                              summary))

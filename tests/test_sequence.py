@@ -497,6 +497,30 @@ def test_every_guide_is_drawn_from_lines_already_on_the_paper(examples):
     assert merged
 
 
+def test_lines_carried_in_a_guides_step_stay_until_the_part_is_drawn_on_them(examples):
+    """A part's box is drawn on the lines carried to it: when the carrying falls in a guides
+    step (the placing step had no room), those lines are still shown at the placing step,
+    reused there, never retired before it (the read-through erased them a step too early)."""
+    from h2s_print.templates import lookup
+
+    carry = lookup("steps", "substep.carry").split("{")[0]  # "Carry "
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        for i, s in enumerate(vp.steps):
+            if s.kind != "guides" or not any(x.startswith(carry) for x in s.substeps):
+                continue
+            placing = next(st for st in vp.steps[i + 1:]
+                           if st.part == s.part and st.kind == "primitive")
+            carried = [g.id for g in s.guides if g.role == "vanishing" and g.status == "new"]
+            assert carried
+            shown = {g.id for g in placing.guides}
+            assert all(g in shown for g in carried), (name, vp.name, s.index)
+            checked += 1
+    assert checked
+
+
 def test_units_touch_when_they_share_a_line_end_or_a_result_end():
     U, L = seq._Unit, seq._Line
     a = U("base", lines=[L("construction", (0.0, 0.0, 0.0), (1.0, 1.0, 0.0))],
