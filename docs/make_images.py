@@ -51,6 +51,7 @@ def main() -> None:
     repeat = next(pg for pg, st in zip(tsteps, tview.steps)
                   if st.kind == "primitive" and len({s.part for s in st.strokes}) > 1)
     wanted = {
+        "page-step-first": steps[0],  # the first box on the sheet's printed lines
         "page-step-guides": first["guides"],
         "page-step-master": [p for p in master_pages if p.kind == "steps"][1],
         "page-step-repeat": repeat,
