@@ -564,11 +564,19 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
     """"Use KL from step 2.": every line the units of ``groups`` (the guides steps numbered
     from ``step``) draw, cited with the step that drew it (an earlier one for a line reused)."""
     cited: dict[int, list[Pts]] = {}
+    carried: list[int] = []
     for k, g in enumerate(groups):
         for u in g:
             for i, r in enumerate(u.results):
                 cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
-    return [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
+            if any(x.key in _CARRIES for x in u.specs):
+                carried.append(step + k)
+    return ([spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
+            + [spec("reuse_carried", step=n) for n in carried])
+
+
+#: Sub-steps that carry lines to the part (the carry unit's).
+_CARRIES = ("carry", "carry_two", "carry_turn", "extend_to")
 
 
 def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:

@@ -517,6 +517,9 @@ def test_lines_carried_in_a_guides_step_stay_until_the_part_is_drawn_on_them(exa
             assert carried
             shown = {g.id for g in placing.guides}
             assert all(g in shown for g in carried), (name, vp.name, s.index)
+            # and the placing step says so, citing the step that carried them
+            said = lookup("steps", "substep.reuse_carried").format(step=s.index)
+            assert said in placing.substeps, (name, vp.name, placing.substeps)
             checked += 1
     assert checked
 
