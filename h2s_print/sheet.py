@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import replace
-from typing import Sequence
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -80,6 +80,27 @@ def first_near_edge(plan: ViewPlan) -> tuple[Pt, Pt] | None:
         return None
     (bx, by), (tx, ty) = plan.camera.project(found[1].height)
     return (float(bx), float(by)), (float(tx), float(ty))
+
+
+#: A vanishing point's arrow keeps this far from the printed first box's lines, mm.
+ARROW_CLEAR_MM = 6.0
+#: The arrow's shaft, mm (``_arrow``'s length in :func:`lay_out_sheet`).
+ARROW_MM = 12.0
+
+
+def _shaft_near(exit_: Any, segs: np.ndarray, clear: float) -> bool:
+    """Does the arrow at ``exit_`` (its tip, and a shaft of :data:`ARROW_MM` back along its
+    direction) come within ``clear`` mm of one of ``segs`` (rows ``x0 y0 x1 y1``)?"""
+    tip = np.asarray(exit_.point_mm, dtype=float)
+    d = np.asarray(exit_.direction_mm, dtype=float)
+    d = d / float(np.linalg.norm(d))
+    pts = tip[None, :] - np.linspace(0.0, ARROW_MM, 7)[:, None] * d[None, :]  # along the shaft
+    a, b = segs[:, :2], segs[:, 2:]
+    ab = b - a
+    t = np.clip(np.einsum("kij,ij->ki", pts[:, None, :] - a[None], ab)
+                / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12)[None], 0.0, 1.0)
+    near = a[None] + t[..., None] * ab[None]
+    return bool((np.linalg.norm(pts[:, None, :] - near, axis=2) < clear).any())
 
 
 #: Perspective grid (:func:`perspective_grid`): about this far apart where the lines leave the
@@ -427,6 +448,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     centre = (w / 2, h / 2)
     inner = (m + 2.0, m + 2.0, w - m - 2.0, h - m - 2.0)  # arrow tips end 2 mm inside the frame
     names = vp_names(plan)
+    ground = _segments([it for it in items if isinstance(it, Polyline)
+                        and it.role in ("ground", "ground_edge")])
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
         name = names[vp.axis]
         finite = not vp.at_infinity and vp.xy_mm is not None
@@ -454,14 +477,27 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             if abs(a * v[0] + b * v[1] + c) < 1e-6 * (1.0 + math.hypot(*v)) and \
                     inner[0] < foot[0] < inner[2] and inner[1] < foot[1] < inner[3]:
                 origin = foot
-        # The arrow's tip: where the ray toward the VP leaves ``inner``.
+        # The arrow's tip: where the ray toward the VP leaves ``inner``; moved across the ray
+        # (still toward the VP) where its shaft would run beside the printed first box, whose
+        # upright line it was taken for (the mixer's high-right sheet)
         exit_ = edge_exit(plan.camera, vp, inset_mm=m + 2.0, origin_mm=origin)
         if exit_ is None:
             continue
+        if len(ground) and _shaft_near(exit_, ground, ARROW_CLEAR_MM):
+            n = math.hypot(*exit_.direction_mm)
+            across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
+            for k in (1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6):
+                moved = (origin[0] + 8.0 * k * across[0], origin[1] + 8.0 * k * across[1])
+                if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
+                    continue
+                other = edge_exit(plan.camera, vp, inset_mm=m + 2.0, origin_mm=moved)
+                if other is not None and not _shaft_near(other, ground, ARROW_CLEAR_MM):
+                    exit_ = other
+                    break
         tip, edge, direction = exit_.point_mm, exit_.side, exit_.direction_mm
         label = (_t("sheet.vp_far", vp=name, distance=f"{exit_.distance_mm:.0f}") if finite
                  else _t("sheet.vp_infinite", vp=name))
-        items += _arrow(tip, direction, 12.0, "black", 0.35, "vp_arrow")
+        items += _arrow(tip, direction, ARROW_MM, "black", 0.35, "vp_arrow")
         tw = text_width_mm(label, 8, "Helvetica-Bold")
         n = math.hypot(*direction)
         ux, uy = direction[0] / n, direction[1] / n

@@ -822,6 +822,45 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
     assert checked >= 8
 
 
+def test_sheet_arrows_keep_off_the_printed_first_box_and_point_at_their_vanishing_points(examples):
+    """A vanishing point's arrow on the sheet is never beside the first box's printed lines
+    (the mixer's high-right arrow below ran 1 mm from the blue upright line, and a reader
+    took one for the other): its shaft keeps 6 mm off them, and it still lies on a line
+    through its vanishing point."""
+    moved = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            lines = [it for it in sheet.items if isinstance(it, L.Polyline)]
+            ground = L._segments([it for it in lines if it.role in ("ground", "ground_edge")])
+            shafts = [it for it in lines if it.role == "vp_arrow" and len(it.points_mm) == 2]
+            for sh in shafts:
+                tail, tip = (np.asarray(p) for p in sh.points_mm)
+                d = tip - tail
+                # it points at one of the view's vanishing points (or along one at infinity)
+                ok = False
+                for v in vp.vanishing_points:
+                    if v.at_infinity or v.xy_mm is None:
+                        u = np.asarray(v.direction_mm, dtype=float)
+                        ok |= abs(d[0] * u[1] - d[1] * u[0]) <= 1e-6 * np.linalg.norm(d) * np.linalg.norm(u)
+                    else:
+                        w = np.asarray(v.xy_mm, dtype=float) - tip
+                        ok |= (abs(d[0] * w[1] - d[1] * w[0]) <= 1e-6 * np.linalg.norm(d) * np.linalg.norm(w)
+                               and np.dot(d, w) > 0)
+                assert ok, (name, view)
+                for k in np.linspace(0, 1, 7):
+                    p = tail + k * d
+                    for x0, y0, x1, y1 in ground:
+                        a, b = np.array([x0, y0]), np.array([x1, y1])
+                        t_ = np.clip(np.dot(p - a, b - a) / max(np.dot(b - a, b - a), 1e-12), 0, 1)
+                        assert np.linalg.norm(p - (a + t_ * (b - a))) >= S.ARROW_CLEAR_MM - 1e-9, \
+                            (name, view)
+            moved += name == "mixer" and view == "high-right"
+    assert moved
+
+
 def test_every_line_style_of_a_step_picture_has_a_key(examples):
     """The key under a step explains every style its picture uses: the new part's hidden
     edges (dotted orange) were read as new guides when the key had no entry for them."""
