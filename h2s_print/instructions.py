@@ -132,7 +132,8 @@ def _letter(k: int) -> str:
 
 def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                  render: Callable[[str, dict[str, Any]], str],
-                 join: Callable[[list[str]], str] = ", ".join
+                 join: Callable[[list[str]], str] = ", ".join,
+                 on_paper: Sequence[tuple[Vec3, int]] = ()
                  ) -> list[tuple[list[str], list[tuple[str, Vec3]]]]:
     """Letters for every point the steps' sub-steps name, and the formatted sub-steps.
 
@@ -148,6 +149,9 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         tol: two points within this distance (model units, max norm) are one point.
         render: formats a template key with fields (letters already substituted).
         join: joins the runs of a :class:`Many` field.
+        on_paper: ``(point, step)``: the point is still on the paper at that step (an end of
+            a guide shown there); a named point lives at least that long, so its letter is
+            not given to another point while its line is still drawn.
 
     Returns:
         per step, ``(sentences, labels)``: one sentence per spec, and ``(letter, point)`` for
@@ -177,6 +181,12 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
     for k, order in enumerate(named):
         for i in order:
             last[i] = k
+    for p, k in on_paper:  # a named point whose line is still drawn lives on
+        x, y, z = (float(c) for c in p)
+        for i in last:
+            rx, ry, rz = points[i]
+            if abs(rx - x) <= tol and abs(ry - y) <= tol and abs(rz - z) <= tol:
+                last[i] = max(last[i], k)
     letter: dict[int, str] = {}
     held: list[tuple[int, str]] = []  # (last step, letter) of points lettered so far
     for k, order in enumerate(named):

@@ -1361,7 +1361,16 @@ class _Context:
     def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
         """The drafts with their sub-steps formatted and their points lettered, the whole
         tutorial at once (:func:`h2s_print.instructions.letter_steps`)."""
-        done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join)
+        # a line is drawn from the first step that uses it to the last (the guides' lifetime):
+        # its ends stay on the paper that long
+        span: dict[tuple, tuple[int, int, Vec3, Vec3]] = {}
+        for k, d in enumerate(drafts):
+            for ln in d.lines:
+                key = points_key((ln.start, ln.end), self.tol)
+                first = span.get(key, (k, k, ln.start, ln.end))[0]
+                span[key] = (first, k, ln.start, ln.end)
+        on_paper = [(p, last) for _, last, a, b in span.values() for p in (a, b)]
+        done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper)
         return [replace(d, substeps=tuple(subs), labels=tuple(labels))
                 for d, (subs, labels) in zip(drafts, done)]
 

@@ -524,6 +524,31 @@ def test_lines_carried_in_a_guides_step_stay_until_the_part_is_drawn_on_them(exa
     assert checked
 
 
+def test_a_letter_is_not_given_again_while_its_point_is_still_drawn(examples):
+    """A letter names one point as long as that point is on the paper: while a guide ending
+    there is still shown (alive), no other point gets its letter (the read-through met the
+    train's A-D and the roller's B, C, F meaning two points in one picture's lines)."""
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        guides = {g.id: g for st in vp.steps for g in st.guides}
+        seen: dict[str, tuple] = {}
+        for st in vp.steps:
+            ends = [p for gid in st.alive if gid in guides
+                    for p in (guides[gid].from3d, guides[gid].to3d)]
+            for lb in st.labels:
+                if lb.kind != "point":
+                    continue
+                old = seen.get(lb.name)
+                if old is not None and np.abs(np.subtract(old, lb.at3d)).max() > 1e-6:
+                    assert not any(np.abs(np.subtract(old, p)).max() < 1e-6 for p in ends), \
+                        (name, vp.name, st.index, lb.name)
+                    checked += 1
+                seen[lb.name] = lb.at3d
+    assert checked  # letters are given again, once their points are gone
+
+
 def test_units_touch_when_they_share_a_line_end_or_a_result_end():
     U, L = seq._Unit, seq._Line
     a = U("base", lines=[L("construction", (0.0, 0.0, 0.0), (1.0, 1.0, 0.0))],
