@@ -448,34 +448,12 @@ def _model_tol(plan, rel: float) -> float:
     return rel * float(np.linalg.norm(np.subtract(hi, lo)))
 
 
-def test_guides_on_a_tapered_parent_start_from_drawn_lines(examples):
-    """A child of a frustum: every guide can be drawn from the scaffold and earlier guides
-    (the frustum's box faces are not drawn, so the box around it must be drawn first)."""
-    checked = 0
-    for name, t, plan, vp in _all_views(examples):
-        if vp.level != "novice":
-            continue
-        by_id = {c.id: c for c in plan.candidates}
-        chosen = plan.chosen()
-        tol = _model_tol(plan, 1e-6)
-        drawn: list = []
-        for s in vp.steps:
-            if s.kind not in ("primitive", "guides"):
-                continue
-            mine = [(g.from3d, g.to3d) for g in s.guides]
-            frustum_parent = any(plan.primitive(by_id[a.parent].part).type == "frustum"
-                                 for a in chosen[s.part].anchors)
-            if frustum_parent and mine:
-                assert not _ungrounded(mine, drawn, tol), (name, vp.name, s.index)
-                checked += 1
-            drawn += mine + [(st.points3d[0], st.points3d[-1]) for st in s.strokes]
-    assert checked  # the camera's flash hangs off the prism in the high-right view
-
-
 def test_every_guide_is_drawn_from_lines_already_on_the_paper(examples):
     """Guides steps are packed to fewer steps, a group joining a later one when no step
     between shares a point with it (``sequence._touch``): whatever the order, each step's
-    guides start from the scaffold and the guides drawn before (:func:`_ungrounded`).  The
+    guides start from the scaffold and the guides drawn before (:func:`_ungrounded`).  On a
+    tapered parent, whose box faces the scaffold does not draw, that needs the box around it
+    first (the camera's flash, on the prism).  The
     mixer's head, high-right: guides on the base, on the bowl, then carried from the base,
     now two guides steps (the base's with the carrying)."""
     merged = 0
@@ -566,8 +544,8 @@ def test_the_box_around_a_tapered_parent_is_drawn_only_where_a_construction_need
     guides start from it: an end of one lies on an edge of that box and on none of the
     frustum's scaffold lines.  A construction on the face the scaffold draws whole (the
     mixer's bowl's rim face, under the head) draws no box: it had 7 lines more.  (That a
-    step's guides can be drawn at all is :func:`test_guides_on_a_tapered_parent_start_from_
-    drawn_lines`.)"""
+    step's guides can be drawn at all is
+    :func:`test_every_guide_is_drawn_from_lines_already_on_the_paper`.)"""
     without = with_box = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
