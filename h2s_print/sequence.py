@@ -822,7 +822,12 @@ def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
         if prev is not None and single and prev.kind == d.kind:
             members = prev.group + d.group
             both = list(prev.specs) + list(d.specs)
-            # small ellipses first, then one tracing sub-step
+            # small ellipses first (in one sentence for both parts), then one tracing sub-step
+            small = [x for x in both if x.key == "ellipse_by_eye_part"]
+            if len(small) > 1:
+                one = spec("ellipse_by_eye_parts", the_parents=_join(
+                    [_the(dict(x.fields)["part"]) for x in small]))
+                both = [one] + [x for x in both if x.key != "ellipse_by_eye_part"]
             both = ([x for x in both if not x.key.startswith("contour")]
                     + [x for x in both if x.key.startswith("contour")][:1])
             out[-1] = replace(prev, strokes=prev.strokes + d.strokes, lines=prev.lines + d.lines,
@@ -2196,6 +2201,17 @@ class _Context:
                 else:
                     drafts.append(e)
             merged = _paired(merged, "contour_many", self.say)
+            # a round part's outline: its two ellipses and the two lines touching both, which
+            # no scaffold line gives (the read-through: "trace" did not say to draw them); one
+            # sentence for the step's round parts, after their ellipses, before the tracing
+            for k, d in enumerate(merged):
+                rounds = [q for q in d.group if _round(self.plan.primitive(q))
+                          and self.plan.primitive(q).type in ("cylinder", "frustum")]
+                if rounds:
+                    join = spec("round_sides_many" if len(rounds) > 1 else "round_sides",
+                                the_parents=_join([_the(self.say(q)) for q in rounds]))
+                    at_trace = next(i for i, x in enumerate(d.specs) if x.key.startswith("contour"))
+                    merged[k] = replace(d, specs=d.specs[:at_trace] + (join,) + d.specs[at_trace:])
             drafts += merged
             self._guided = tuple(self.letter(drafts))
         return self._guided

@@ -527,6 +527,35 @@ def test_a_letter_is_not_given_again_while_its_point_is_still_drawn(examples):
     assert checked  # letters are given again, once their points are gone
 
 
+def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
+    """A cylinder's or round frustum's outline is its ellipses and two straight lines touching
+    both, which no scaffold line gives: its outline step says to draw them, in one sentence
+    for the step's round parts; other parts are not named there."""
+    from h2s_print.templates import lookup
+
+    one = lookup("steps", "substep.round_sides").split("{")[0]  # "Join "
+    copies = lookup("steps", "substep.round_sides_many").split("{")[0]
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        ctx = seq._context(plan, [v for v in t.views if v.name == vp.name][0], t.paper,
+                           t.sequence)
+        for st in vp.steps:
+            if st.kind != "contour":
+                continue
+            parts = list(dict.fromkeys(s.part for s in st.strokes))
+            said = [x for x in st.substeps if x.startswith(one) or x.startswith(copies)]
+            round_ = [p for p in parts if plan.primitive(p).type in ("cylinder", "frustum")
+                      and seq._round(plan.primitive(p))]
+            assert len(said) == (1 if round_ else 0), (name, st.substeps)
+            named = [p for p in round_ if ctx.say(p) in " ".join(said)]
+            assert named == round_, (name, st.substeps)
+            assert all(ctx.say(p) not in " ".join(said) for p in parts if p not in round_)
+            checked += len(named)
+    assert checked
+
+
 def test_units_touch_when_they_share_a_line_end_or_a_result_end():
     U, L = seq._Unit, seq._Line
     a = U("base", lines=[L("construction", (0.0, 0.0, 0.0), (1.0, 1.0, 0.0))],
