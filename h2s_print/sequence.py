@@ -1476,6 +1476,7 @@ class _Context:
         boxed: set[str] = set()
         known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
         carried: dict[tuple[int, int | None], list[Pts]] = {}  # by (first axis, turn)
+        corners: dict[tuple[int, int | None], list[Pts]] = {}  # where those turn, in order
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -1517,6 +1518,8 @@ class _Context:
                 runs = carried.setdefault((first, turn), [])
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
+                    if turn is not None:  # where it turns, lettered on the picture
+                        corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [self.along_edge(self.drawn_before(x, step), drawn)
                           for x in unit.specs if not _draws_known(x, known, self.tol)]
@@ -1538,7 +1541,8 @@ class _Context:
             carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
                         if turn is None else
                         spec("carry_turn", lines=Many(tuple(runs)), part=name,
-                             vp=words.vp(axis), vp2=words.vp(turn))
+                             vp=words.vp(axis), vp2=words.vp(turn),
+                             turns=Many(tuple(corners[axis, turn])))
                         for axis, turn, runs in carries]
         if extended:
             carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))

@@ -696,9 +696,10 @@ def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
 
 
 def test_a_carry_around_a_corner_says_both_directions(examples):
-    """"Carry EF and GK to the prism, toward the left vanishing point, then vertically.":
-    said exactly when the step's carrying lines turn a corner (two of them meet end to end
-    running along different model axes), the second direction being the turn's."""
+    """"Carry EF and GK toward the left vanishing point to M and P, then vertically.": said
+    exactly when the step's carrying lines turn a corner (two of them meet
+    end to end running along different model axes), the second direction being the turn's,
+    and the corners lettered (the second read-through could not tell where to turn)."""
     from h2s_print.templates import lookup
 
     vp_words = lookup("steps", "vp")
@@ -724,6 +725,15 @@ def test_a_carry_around_a_corner_says_both_directions(examples):
                 if said:
                     turns += 1
                     then = said[0].split(", then ")[1].rstrip(".")
+                    # the turns are lettered: "to M and P" names the corners, each the
+                    # end of a carrying line where the next one starts
+                    at = {lb.name: lb.at3d for lb in st.labels}
+                    named = re.findall(r"[A-Z]'*", said[0].split(", then ")[0].rsplit(
+                        " to ", 1)[1])
+                    corners = [a.to3d for a in lines for b in lines
+                               if a is not b and np.allclose(a.to3d, b.from3d)]
+                    assert named and all(any(np.allclose(at[n], c) for c in corners)
+                                         for n in named), (name, view, st.index, said)
                     # the turn's direction: upright edges' (vertically, or their vanishing
                     # point in a three-point view), else a vanishing point's
                     assert then == vp_words["vertical"] or "vanishing point" in then, then
