@@ -2212,8 +2212,12 @@ class _Context:
                 rounds = [q for q in d.group if _round(self.plan.primitive(q))
                           and self.plan.primitive(q).type in ("cylinder", "frustum")]
                 if rounds:
-                    join = spec("round_sides_many" if len(rounds) > 1 else "round_sides",
-                                the_parents=_join([_the(self.say(q)) for q in rounds]))
+                    leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
+                    if len(leads) == 1 and len(rounds) > 1:  # one part and its copies
+                        join = spec("round_sides_copies", the_parents=_the(self.say(leads[0])))
+                    else:
+                        join = spec("round_sides_many" if len(rounds) > 1 else "round_sides",
+                                    the_parents=_join([_the(self.say(q)) for q in rounds]))
                     at_trace = next(i for i, x in enumerate(d.specs) if x.key.startswith("contour"))
                     merged[k] = replace(d, specs=d.specs[:at_trace] + (join,) + d.specs[at_trace:])
             drafts += merged
