@@ -24,7 +24,7 @@ from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt
                      _green_corners, _level_name,
                      _segments, _t, clip_polyline, fit_line, plain_text, text_width_mm,
                      vp_names)
-from .project import FirstBoxLines, edge_exit, first_box_lines, horizon_mm
+from .project import FirstBoxLines, edge_exit, first_box_lines, horizon_mm, vp_side
 from .types import ViewPlan
 
 
@@ -545,12 +545,138 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 break
         items += extra
         items += texts
+    items += vp_ticks(plan, frame, items, shadow)
     if grid:  # the grid stops short of every label, so no text is read through its lines
         boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
         items = [piece for it in items for piece in (
             _knocked_out(it, boxes, GRID_KNOCKOUT_MM)
             if isinstance(it, Polyline) and it.role == "grid" else [it])]
     return Page(w, h, tuple(items), (Bookmark(_t("sheet.bookmark")),), "sheet", title, m)
+
+
+#: Ticks toward a vanishing point off the sheet (:func:`vp_ticks`): pairs tried, tick length
+#: and label size, and how far a tick stays from the frame's corners (the green corners), mm.
+TICK_PAIRS = 7
+#: ... a pair's two ticks at least this share of the frame's shorter side apart
+TICK_CHORD = 0.6
+TICK_MM = 4.0
+TICK_PT = 6.0
+TICK_CORNER_MM = 20.0
+
+
+def _frame_hits(v: Pt, d: Pt, frame: Box2) -> list[tuple[float, Pt]]:
+    """Where the line ``v + t d`` crosses the rectangle ``frame``'s border: ``(t, point)``,
+    by ``t``, two of them when it passes through."""
+    x0, y0, x1, y1 = frame
+    out: list[tuple[float, Pt]] = []
+    for axis, lo, hi in ((0, x0, x1), (1, y0, y1)):
+        if abs(d[axis]) < 1e-12:
+            continue
+        for edge in (lo, hi):
+            t = (edge - v[axis]) / d[axis]
+            p = (v[0] + t * d[0], v[1] + t * d[1])
+            o = 1 - axis
+            if (y0, x0)[axis] - 1e-9 <= p[o] <= (y1, x1)[axis] + 1e-9:
+                out.append((t, p))
+    out.sort()
+    return [out[0], out[-1]] if len(out) >= 2 else []
+
+
+def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
+             drawing: np.ndarray | None = None) -> list[Item]:
+    """Ticks on the frame toward each vanishing point that lies off the sheet, in named pairs.
+
+    A line through a far vanishing point crosses the frame twice; a short tick marks both
+    crossings, inside the frame, each named alike ("L3" … "L3"): a ruler laid through two
+    ticks of one name runs toward that vanishing point, which no taped-on paper then needs
+    (the read-throughs: the camera's right vanishing point is 392 mm off the sheet, the
+    roller's left one 859 mm).  The lines are spread evenly in angle over the frame as seen
+    from the point; a pair is left out where a tick or its name would touch a text, an arrow,
+    the printed first box, the drawing's lines (``drawing``, segments) or a green corner, and
+    the pairs kept are numbered along the frame.
+    Names: ``sheet.tick_names.<side>`` (the side as :func:`h2s_print.project.vp_side` says).
+    """
+    w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
+    centre = (w / 2, h / 2)
+    boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+    lines = _segments([it for it in items if isinstance(it, Polyline)
+                       and it.role in ("vp_arrow", "ground", "ground_edge", "horizon")])
+    if drawing is not None and len(drawing):
+        lines = np.vstack([lines, drawing]) if len(lines) else drawing
+    taken = list(boxes)
+    corners = [(frame[0], frame[1]), (frame[2], frame[1]), (frame[2], frame[3]),
+               (frame[0], frame[3])]
+    out: list[Item] = []
+    named: list[str] = []
+    for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
+        if vp.at_infinity or vp.xy_mm is None:
+            continue
+        v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
+        if frame[0] <= v[0] <= frame[2] and frame[1] <= v[1] <= frame[3]:
+            continue  # on the sheet: a ruler reaches it
+        side = vp_side(vp, centre)
+        prefix = _t(f"sheet.tick_names.{side}")
+        angles = [math.atan2(c[1] - v[1], c[0] - v[0]) for c in corners]
+        ref = angles[0]
+        spread = [math.remainder(a - ref, 2 * math.pi) for a in angles]
+        lo, hi = min(spread), max(spread)
+        pairs = []
+        for k in range(TICK_PAIRS):
+            a = ref + lo + (k + 0.5) / TICK_PAIRS * (hi - lo)
+            d = (math.cos(a), math.sin(a))
+            hits = _frame_hits(v, d, frame)
+            if len(hits) < 2 or math.dist(hits[0][1], hits[1][1]) < TICK_CHORD * min(
+                    frame[2] - frame[0], frame[3] - frame[1]):
+                continue  # across a corner: too short a baseline for the ruler
+            ticks = []
+            for t, p in hits:
+                inward = 1.0 if t == hits[0][0] else -1.0
+                q = (p[0] + inward * TICK_MM * d[0], p[1] + inward * TICK_MM * d[1])
+                ticks.append((p, q))
+            pairs.append(ticks)
+        kept: list[list[tuple[Pt, Pt, Text]]] = []
+        for ticks in pairs:
+            made = []
+            for p, q in ticks:
+                if min(math.dist(p, c) for c in corners) < TICK_CORNER_MM:
+                    break
+                # the name just inside the tick's inner end, toward the frame's middle
+                ix = q[0] + (1.5 if q[0] < centre[0] else -1.5)
+                iy = q[1] + (1.0 if q[1] < centre[1] else -3.0)
+                text = Text(ix, iy, "", TICK_PT, "Helvetica", "start" if q[0] < centre[0]
+                            else "end", "black", "vp_tick_label")
+                made.append((p, q, text))
+            else:
+                kept.append(made)
+        n = 0
+        for made in kept:
+            name = f"{prefix}{n + 1}"
+            texts = [replace(t, string=name) for _, _, t in made]
+            tboxes = [tx.box_mm for tx in texts]
+            seg = np.array([[p[0], p[1], q[0], q[1]] for p, q, _ in made])
+            pad = [(b[0] - 1.0, b[1] - 0.8, b[2] + 1.0, b[3] + 0.8) for b in tboxes]
+            if any(_boxes_meet(b, o) for b in pad for o in taken) or any(
+                    _crossings(lines, b) for b in pad) or any(
+                    _crossings(seg[i:i + 1], o) for i in range(len(seg)) for o in taken):
+                continue
+            n += 1
+            taken += tboxes
+            for (p, q, _), tx in zip(made, texts):
+                out.append(Polyline((p, q), "black", 0.3, (), False, "vp_tick"))
+                out.append(tx)
+        if n:
+            named.append(f"{prefix}1" if n == 1 else
+                         _t("sheet.ticks_range", first=f"{prefix}1", last=f"{prefix}{n}"))
+    if named:  # what the ticks are for, in the top band at the right
+        m = frame[1]
+        line = _t("sheet.ticks", names=", ".join(named))
+        out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.55 * w, 7),
+                        "Helvetica", "end", "black", "vp_tick_legend"))
+    return out
+
+
+def _boxes_meet(a: Box2, b: Box2) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 #: The perspective grid leaves this much room around each label on the sheet, mm.

@@ -57,8 +57,8 @@ FIELDS: dict[str, frozenset[str]] = {
         "vp", "vp2", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",
-        "last", "level", "lines", "minutes", "n", "page", "pages", "the_part", "title", "vdir", "view",
-        "vp")),
+        "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part", "title",
+        "vdir", "view", "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((
         "condition", "config", "fill", "margin", "n", "n_drawings", "object", "page", "pages",

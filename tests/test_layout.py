@@ -861,6 +861,45 @@ def test_sheet_arrows_keep_off_the_printed_first_box_and_point_at_their_vanishin
     assert moved
 
 
+def test_sheet_ticks_of_one_name_lie_on_a_line_through_their_vanishing_point(examples):
+    """A vanishing point off the sheet gets named tick pairs on the frame ("R3" twice): the
+    line through a pair's two frame points passes through that vanishing point, so a ruler
+    laid through them draws toward it with no taped-on paper (the read-throughs: the
+    camera's right vanishing point is 392 mm off, the roller's left one 859 mm).  Each name
+    is used twice, on the frame's border, and the sheet says what the ticks are for."""
+    pairs = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
+            items = list(sheet.items)
+            ticks: dict[str, list] = {}
+            for a, b in zip(items, items[1:]):
+                if isinstance(a, L.Polyline) and a.role == "vp_tick":
+                    assert isinstance(b, L.Text) and b.role == "vp_tick_label"
+                    ticks.setdefault(b.string, []).append(np.asarray(a.points_mm[0]))
+            far = [np.asarray(v.xy_mm, dtype=float) for v in vp.vanishing_points
+                   if not v.at_infinity and v.xy_mm is not None
+                   and not (frame[0] <= v.xy_mm[0] <= frame[2]
+                            and frame[1] <= v.xy_mm[1] <= frame[3])]
+            legend = [it for it in items if isinstance(it, L.Text) and it.role == "vp_tick_legend"]
+            assert bool(ticks) == bool(legend), (name, view)
+            for tick_name, ends in ticks.items():
+                assert len(ends) == 2, (name, view, tick_name)
+                p, q = ends
+                for e in ends:  # on the frame's border
+                    assert min(abs(e[0] - frame[0]), abs(e[0] - frame[2]), abs(e[1] - frame[1]),
+                               abs(e[1] - frame[3])) < 1e-9
+                d = q - p
+                assert any(abs(d[0] * (v - p)[1] - d[1] * (v - p)[0])
+                           <= 1e-9 * np.linalg.norm(d) * np.linalg.norm(v - p) for v in far), \
+                    (name, view, tick_name)
+                pairs += 1
+    assert pairs
+
+
 def test_every_line_style_of_a_step_picture_has_a_key(examples):
     """The key under a step explains every style its picture uses: the new part's hidden
     edges (dotted orange) were read as new guides when the key had no entry for them."""
