@@ -55,12 +55,10 @@ class Plan:
 
 
 def build_plan(spec: ModelSpec, settings: SolverSettings) -> Plan:
-    """Run stages 1-5: load, fit, relate, generate candidates, select."""
-    from .candidates import generate_candidates
+    """Run stages 1-5: load, fit, relate, generate candidates, select (:func:`choose`)."""
     from .fit import fit_primitives
     from .load import load_model
     from .relate import detect_relations
-    from .select import select_candidates
 
     model = load_model(spec)
     primitives = fit_primitives(model)

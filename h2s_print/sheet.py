@@ -10,6 +10,7 @@ in :mod:`h2s_print.layout`'s docstring (*Calibrated sheet*).
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import replace
 from typing import Any, Sequence
@@ -26,6 +27,8 @@ from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt
                      vp_names)
 from .project import FirstBoxLines, edge_exit, first_box_lines, horizon_mm, vp_side
 from .types import ViewPlan
+
+log = logging.getLogger(__name__)
 
 
 def _horizon(plan: ViewPlan) -> tuple[float, float, float] | None:
@@ -545,7 +548,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 break
         items += extra
         items += texts
-    items += vp_ticks(plan, frame, items, shadow)
+    items += _beside_heading(vp_ticks(plan, frame, items, shadow), items)
     if grid:  # the grid stops short of every label, so no text is read through its lines
         boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
         items = [piece for it in items for piece in (
@@ -670,9 +673,35 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
     if named:  # what the ticks are for, in the top band at the right
         m = frame[1]
         line = _t("sheet.ticks", names=", ".join(named))
-        out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.55 * w, 7),
+        out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.5 * w, 7),
                         "Helvetica", "end", "black", "vp_tick_legend"))
     return out
+
+
+def _beside_heading(ticks: list[Item], items: list[Item]) -> list[Item]:
+    """``ticks`` with their line in the top band set beside the heading (``items``' text of
+    role ``sheet_title``, shrunk in place when it is long), or none of them when the two do
+    not fit one band even at the smallest size: ticks nobody explains would only puzzle."""
+    legend = next((it for it in ticks if isinstance(it, Text) and it.role == "vp_tick_legend"),
+                  None)
+    k, head = next(((k, it) for k, it in enumerate(items)
+                    if isinstance(it, Text) and it.role == "sheet_title"), (None, None))
+    if legend is None or head is None or k is None:
+        return ticks
+    try:
+        items[k] = replace(head, size_pt=fit_line(head.string, legend.box_mm[0] - 4.0
+                                                  - head.x_mm, head.size_pt, head.font))
+        return ticks
+    except RenderError:  # a long heading: the ticks' line smaller, after it
+        pass
+    try:
+        size = fit_line(legend.string, legend.x_mm - head.box_mm[2] - 4.0, legend.size_pt,
+                        legend.font)
+    except RenderError:
+        log.info("sheet: no room in the top band to explain the vanishing-point ticks; "
+                 "left out")
+        return []
+    return [replace(it, size_pt=size) if it is legend else it for it in ticks]
 
 
 def _boxes_meet(a: Box2, b: Box2) -> bool:

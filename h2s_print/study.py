@@ -62,7 +62,7 @@ from .config import PaperSpec, StudyConfig
 from .errors import ConfigError
 from .layout import (
     Bookmark, Page, Polyline, Rect, Text, _Frame, _header, _paragraph,
-    _with_footers, fit_line, plain_text,
+    _with_footers, fit_line, plain_text, text_width_mm,
 )
 from .sheet import registration_marks
 from .studyfile import Box, Drawing, SheetKey, Study, code_text, study_json
@@ -218,14 +218,24 @@ def stamped(sheet: Page, code: str, box: Box, stamp: str = "") -> Page:
     (participant, drawing, object, condition) as its heading in the top band (the plain
     heading names the level, which participants are not told)."""
     items = []
+    legend = next((it for it in sheet.items
+                   if isinstance(it, Text) and it.role == "vp_tick_legend"), None)
     for it in sheet.items:
         if stamp and isinstance(it, Text) and it.role == "sheet_title":
-            x1 = sheet.width_mm - sheet.margin_mm / 2 - 6.0
             stamp = plain_text(stamp)
+            x1 = sheet.width_mm - sheet.margin_mm / 2 - 6.0
+            if legend is not None:  # left of the ticks' line in the top band, if it fits
+                beside = legend.box_mm[0] - 4.0 - it.x_mm
+                if text_width_mm(stamp, 5.0, it.font) <= beside:
+                    x1 = legend.box_mm[0] - 4.0
+                else:  # the stamp matters more: the ticks stay, unexplained on this sheet
+                    legend = None
             it = replace(it, string=stamp, size_pt=fit_line(stamp, x1 - it.x_mm, it.size_pt,
                                                             it.font), colour="black",
                          role="stamp")
         items.append(it)
+    if stamp and legend is None:
+        items = [it for it in items if not (isinstance(it, Text) and it.role == "vp_tick_legend")]
     return replace(sheet, items=tuple(items) + tuple(code_items(code, box)))
 
 

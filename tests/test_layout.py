@@ -900,6 +900,33 @@ def test_sheet_ticks_of_one_name_lie_on_a_line_through_their_vanishing_point(exa
     assert pairs
 
 
+def test_a_long_heading_or_stamp_keeps_left_of_the_ticks_line(examples):
+    """The top band holds the heading (or a study's stamp) and the ticks' line: a long title
+    shrinks to stay left of it; one too long for that keeps the band and the ticks' line
+    shrinks after it, or the ticks are left out (a title never fails to fit because of
+    them)."""
+    from h2s_print.study import stamped
+
+    t, plan, views = examples["camera"]
+    vp = views[(t.views[0].name, "novice")]
+    # too long to sit beside the ticks' line even at 5 pt: no ticks, and no error
+    huge = S.lay_out_sheet("A very long title for a sketching workbook " * 4, vp,
+                           margin_mm=t.paper.margin_mm)
+    assert not [it for it in huge.items if getattr(it, "role", "").startswith("vp_tick")]
+    sheet = S.lay_out_sheet("A long title for a sketching workbook " * 2, vp,
+                            margin_mm=t.paper.margin_mm)
+    legend = [it for it in sheet.items if isinstance(it, L.Text) and it.role == "vp_tick_legend"]
+    assert legend
+    for page, role in ((sheet, "sheet_title"),
+                       (stamped(sheet, "X", (250.0, 2.0, 260.0, 12.0), "P01 · drawing 1 " * 3),
+                        "stamp"),
+                       (stamped(sheet, "X", (250.0, 2.0, 260.0, 12.0), "P01 · drawing 1 " * 14),
+                        "stamp")):
+        head = [it for it in page.items if isinstance(it, L.Text) and it.role == role]
+        shown = [it for it in page.items if isinstance(it, L.Text) and it.role == "vp_tick_legend"]
+        assert head and not any(L._boxes_overlap(head[0].box_mm, x.box_mm) for x in shown)
+
+
 def test_every_line_style_of_a_step_picture_has_a_key(examples):
     """The key under a step explains every style its picture uses: the new part's hidden
     edges (dotted orange) were read as new guides when the key had no entry for them."""
