@@ -822,42 +822,46 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
     assert checked >= 8
 
 
+def _novice_sheets(examples):
+    """(name, view, tutorial, view plan, drawing sheet) of every example's novice views."""
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level == "novice":
+                yield name, view, t, vp, S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+
+
 def test_sheet_arrows_keep_off_the_printed_first_box_and_point_at_their_vanishing_points(examples):
     """A vanishing point's arrow on the sheet is never beside the first box's printed lines
     (the mixer's high-right arrow below ran 1 mm from the blue upright line, and a reader
     took one for the other): its shaft keeps 6 mm off them, and it still lies on a line
     through its vanishing point."""
     moved = 0
-    for name, (t, plan, views) in examples.items():
-        for (view, level), vp in views.items():
-            if level != "novice":
-                continue
-            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
-            lines = [it for it in sheet.items if isinstance(it, L.Polyline)]
-            ground = L._segments([it for it in lines if it.role in ("ground", "ground_edge")])
-            shafts = [it for it in lines if it.role == "vp_arrow" and len(it.points_mm) == 2]
-            for sh in shafts:
-                tail, tip = (np.asarray(p) for p in sh.points_mm)
-                d = tip - tail
-                # it points at one of the view's vanishing points (or along one at infinity)
-                ok = False
-                for v in vp.vanishing_points:
-                    if v.at_infinity or v.xy_mm is None:
-                        u = np.asarray(v.direction_mm, dtype=float)
-                        ok |= abs(d[0] * u[1] - d[1] * u[0]) <= 1e-6 * np.linalg.norm(d) * np.linalg.norm(u)
-                    else:
-                        w = np.asarray(v.xy_mm, dtype=float) - tip
-                        ok |= (abs(d[0] * w[1] - d[1] * w[0]) <= 1e-6 * np.linalg.norm(d) * np.linalg.norm(w)
-                               and np.dot(d, w) > 0)
-                assert ok, (name, view)
-                for k in np.linspace(0, 1, 7):
-                    p = tail + k * d
-                    for x0, y0, x1, y1 in ground:
-                        a, b = np.array([x0, y0]), np.array([x1, y1])
-                        t_ = np.clip(np.dot(p - a, b - a) / max(np.dot(b - a, b - a), 1e-12), 0, 1)
-                        assert np.linalg.norm(p - (a + t_ * (b - a))) >= S.ARROW_CLEAR_MM - 1e-9, \
-                            (name, view)
-            moved += name == "mixer" and view == "high-right"
+    for name, view, t, vp, sheet in _novice_sheets(examples):
+        lines = [it for it in sheet.items if isinstance(it, L.Polyline)]
+        ground = L._segments([it for it in lines if it.role in ("ground", "ground_edge")])
+        shafts = [it for it in lines if it.role == "vp_arrow" and len(it.points_mm) == 2]
+        for sh in shafts:
+            tail, tip = (np.asarray(p) for p in sh.points_mm)
+            d = tip - tail
+            # it points at one of the view's vanishing points (or along one at infinity)
+            ok = False
+            for v in vp.vanishing_points:
+                if v.at_infinity or v.xy_mm is None:
+                    u = np.asarray(v.direction_mm, dtype=float)
+                    ok |= abs(d[0] * u[1] - d[1] * u[0]) <= 1e-6 * np.linalg.norm(d) * np.linalg.norm(u)
+                else:
+                    w = np.asarray(v.xy_mm, dtype=float) - tip
+                    ok |= (abs(d[0] * w[1] - d[1] * w[0]) <= 1e-6 * np.linalg.norm(d) * np.linalg.norm(w)
+                           and np.dot(d, w) > 0)
+            assert ok, (name, view)
+            for k in np.linspace(0, 1, 7):
+                p = tail + k * d
+                for x0, y0, x1, y1 in ground:
+                    a, b = np.array([x0, y0]), np.array([x1, y1])
+                    t_ = np.clip(np.dot(p - a, b - a) / max(np.dot(b - a, b - a), 1e-12), 0, 1)
+                    assert np.linalg.norm(p - (a + t_ * (b - a))) >= S.ARROW_CLEAR_MM - 1e-9, \
+                        (name, view)
+        moved += name == "mixer" and view == "high-right"
     assert moved
 
 
@@ -868,35 +872,31 @@ def test_sheet_ticks_of_one_name_lie_on_a_line_through_their_vanishing_point(exa
     camera's right vanishing point is 392 mm off, the roller's left one 859 mm).  Each name
     is used twice, on the frame's border, and the sheet says what the ticks are for."""
     pairs = 0
-    for name, (t, plan, views) in examples.items():
-        for (view, level), vp in views.items():
-            if level != "novice":
-                continue
-            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
-            frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
-            items = list(sheet.items)
-            ticks: dict[str, list] = {}
-            for a, b in zip(items, items[1:]):
-                if isinstance(a, L.Polyline) and a.role == "vp_tick":
-                    assert isinstance(b, L.Text) and b.role == "vp_tick_label"
-                    ticks.setdefault(b.string, []).append(np.asarray(a.points_mm[0]))
-            far = [np.asarray(v.xy_mm, dtype=float) for v in vp.vanishing_points
-                   if not v.at_infinity and v.xy_mm is not None
-                   and not (frame[0] <= v.xy_mm[0] <= frame[2]
-                            and frame[1] <= v.xy_mm[1] <= frame[3])]
-            legend = [it for it in items if isinstance(it, L.Text) and it.role == "vp_tick_legend"]
-            assert bool(ticks) == bool(legend), (name, view)
-            for tick_name, ends in ticks.items():
-                assert len(ends) == 2, (name, view, tick_name)
-                p, q = ends
-                for e in ends:  # on the frame's border
-                    assert min(abs(e[0] - frame[0]), abs(e[0] - frame[2]), abs(e[1] - frame[1]),
-                               abs(e[1] - frame[3])) < 1e-9
-                d = q - p
-                assert any(abs(d[0] * (v - p)[1] - d[1] * (v - p)[0])
-                           <= 1e-9 * np.linalg.norm(d) * np.linalg.norm(v - p) for v in far), \
-                    (name, view, tick_name)
-                pairs += 1
+    for name, view, t, vp, sheet in _novice_sheets(examples):
+        frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
+        items = list(sheet.items)
+        ticks: dict[str, list] = {}
+        for a, b in zip(items, items[1:]):
+            if isinstance(a, L.Polyline) and a.role == "vp_tick":
+                assert isinstance(b, L.Text) and b.role == "vp_tick_label"
+                ticks.setdefault(b.string, []).append(np.asarray(a.points_mm[0]))
+        far = [np.asarray(v.xy_mm, dtype=float) for v in vp.vanishing_points
+               if not v.at_infinity and v.xy_mm is not None
+               and not (frame[0] <= v.xy_mm[0] <= frame[2]
+                        and frame[1] <= v.xy_mm[1] <= frame[3])]
+        legend = [it for it in items if isinstance(it, L.Text) and it.role == "vp_tick_legend"]
+        assert bool(ticks) == bool(legend), (name, view)
+        for tick_name, ends in ticks.items():
+            assert len(ends) == 2, (name, view, tick_name)
+            p, q = ends
+            for e in ends:  # on the frame's border
+                assert min(abs(e[0] - frame[0]), abs(e[0] - frame[2]), abs(e[1] - frame[1]),
+                           abs(e[1] - frame[3])) < 1e-9
+            d = q - p
+            assert any(abs(d[0] * (v - p)[1] - d[1] * (v - p)[0])
+                       <= 1e-9 * np.linalg.norm(d) * np.linalg.norm(v - p) for v in far), \
+                (name, view, tick_name)
+            pairs += 1
     assert pairs
 
 
