@@ -95,6 +95,13 @@ A candidate that could never be selected is dropped: one whose ancestors include
 of one part or a candidate of its own part, or whose box breaks a preserved relation with an
 ancestor (ancestors are always selected with it).
 
+Off a selection (:func:`extend_candidates`, used by ``plan.choose``): the same levels are made
+again with the selected candidates as the only first parents (the *seeds*), so pruning no
+longer spends a part's few options on candidates that were not chosen (the IKEA table's leg
+could reach the top's underside only in pairs with other legs' originals).  A candidate made
+again is handed back as a parent of the next level; the next level hangs only off candidates
+that cost less than their part's seed; one made again is not restored again.
+
 Costs (unit-free, raw; weights apply in the selection objective)
 ----------------------------------------------------------------
 ``L`` is the input length of an axis (for a zero-length axis: ``THIN_FRACTION`` of the part's
