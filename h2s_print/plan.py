@@ -81,9 +81,11 @@ def choose(primitives: Sequence[Primitive], relations: Sequence[Relation],
     up to :data:`REFINE_ROUNDS` times, more are made off the selected candidates alone
     (``candidates.extend_candidates``: pruning had cut them for ways off candidates never
     selected) and the selection is solved again over its *neighbourhood*: the originals, the
-    selected candidates and the new ones, with every ancestor they need.  The earlier
-    selection is among them, so a round never costs more; a round that finds nothing cheaper
-    is dropped and ends the search.
+    selected candidates and the new ones, with every ancestor they need, and stand-ins no
+    deeper than the parent they stand in for (acyclic at once: no cycle cuts, ``select``).
+    The earlier selection's candidates are among them and it is SCIP's start; a round is kept
+    only when it costs less, so the answer never costs more than the first selection, and a
+    round that finds nothing cheaper is dropped and ends the search.
 
     Returned: the candidates of the last solve accepted, which is what the selection is
     proven optimal over (plan.json lists exactly those), and that selection.  Solving the
