@@ -1116,11 +1116,16 @@ class _Context:
         said, so the eye has something to go by."""
         drawn_set = set(drawn)
         used: set[int] = set(range(3)) - set(axes)  # only ``axes`` are said
+        ends: dict[int, set[str]] = {}  # faces already lined up, per axis
         rels = [(r.b if r.a == part else r.a, r) for r in self.plan.relations
-                if r.detail.get("preserved") and part in (r.a, r.b)]
+                if part in (r.a, r.b)]
+        # the biggest drawn part first; faces in line before mid-planes (extending an edge is
+        # easier than finding a middle: the train's wagon has the engine's front and back)
         rels = sorted(((q, r) for q, r in rels if q in drawn_set),
-                      key=lambda qr: (-part_size(self.chosen[qr[0]].box), qr[0], qr[1].type,
-                                      qr[1].axis))
+                      key=lambda qr: (-part_size(self.chosen[qr[0]].box), qr[0],
+                                      qr[1].type != "coplanar", qr[1].type, qr[1].axis,
+                                      str(qr[1].detail.get("a_end" if qr[1].a == part
+                                                           else "b_end", ""))))
         out: list[tuple[str, Any]] = []
         for other, r in rels:
             box, obox = self.chosen[part].box, self.chosen[other].box
@@ -1129,7 +1134,15 @@ class _Context:
             axes = ((r.axis,) if r.type != "coaxial"
                     else tuple(a for a in range(3) if a != r.axis))
             for axis in axes:
-                if axis in used or len(out) >= FREE_POSITIONS:
+                if len(out) >= FREE_POSITIONS:
+                    continue
+                if r.type == "coplanar":  # both faces of an axis may line up, one each
+                    mine_end = r.detail.get("a_end" if r.a == part else "b_end", "lo")
+                    if axis in used and mine_end in ends.get(axis, set()) | (
+                            set() if axis in ends else {"lo", "hi"}):
+                        continue
+                    ends.setdefault(axis, set()).add(mine_end)
+                elif axis in used:
                     continue
                 flat = _extent(obox, axis) <= 1e-9 * max(_extent(obox, a) for a in range(3))
                 if r.type == "coplanar":

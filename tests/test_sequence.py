@@ -1367,9 +1367,9 @@ def test_a_free_part_is_placed_against_a_part_it_touches(examples):
 
 def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     """A part the selection leaves unanchored still gets the alignments a teacher would
-    point out: its preserved relations with parts drawn before it, kept by its selected box
-    ("Line up its back and bottom with the base's back and top."); each position holds on
-    the boxes."""
+    point out: its relations with parts drawn before it that its selected box keeps ("Line up
+    its back and bottom with the base's back and top."), faces in line before mid-planes and
+    both faces of an axis where both line up; each position holds on the boxes."""
     checked = 0
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
@@ -1392,6 +1392,12 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
     assert "Centre it left to right on the base." in column.substeps
     assert "Line up its back and bottom with the base's back and top." in column.substeps
+    # the train's wagon has the engine's front and back (and top): said as faces in line, not
+    # as a common middle (the second read-through: "extend the engine's long edges")
+    t, plan, views = examples["train"]
+    wagon = next(s for s in views[("front-left", "novice")].steps if s.part == "wagon")
+    assert "Line up its back, front and top with the engine's back, front and top." in \
+        wagon.substeps, wagon.substeps
     # a placed part's axes without an anchor get the same, and only those axes
     t, plan, views = examples["camera"]
     button = next(s for s in views[("front-left", "novice")].steps if s.part == "shutter_button"
