@@ -1220,8 +1220,8 @@ def _erase_hints(plan: ViewPlan) -> list[str]:
 def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     """The step's "you may erase ..." line (empty when nothing retires): the lines by their
     letters ("Afterwards you may erase AC, BD and FG.") when the ends of each are lettered on
-    this step's picture, else their number and where to see which (the next picture no
-    longer shows them).  A guide that runs along an edge of the scaffold is erased only
+    this step's picture, the others by their number and where to see which ("... AC and 2
+    more guide lines: the next picture no longer shows them.").  A guide that runs along an edge of the scaffold is erased only
     beyond it (the mixer's KU along the column's edge KL is "LU"), and not at all when it
     lies on the edge whole (:func:`_off_edges`).  ``edges``: the scaffold edges drawn by
     step ``i`` (:func:`_erase_hints` gathers them)."""
@@ -1240,10 +1240,13 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
             names.append(name)
     if not names:
         return ""
-    if None in names:
+    said = [n for n in names if n is not None]
+    if not said:
         return plain_text(templates.plural("pages", "step.erase", len(names)))
     join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
-    said = [n for n in names if n is not None]
+    if None in names:  # the lettered ones by name (the template joins the count last)
+        return plain_text(templates.plural("pages", "step.erase_more", names.count(None),
+                                           lines=join.join(said)))
     lines = said[0] if len(said) == 1 else join.join(said[:-1]) + last + said[-1]
     return plain_text(templates.text("pages", "step.erase_named", lines=lines))
 

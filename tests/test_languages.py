@@ -73,6 +73,7 @@ def test_plural_forms_follow_the_languages_rules(folder):
         if name != "pages":
             return text
         text = re.sub(r"  erase:\n(    .*\n)+", "  erase:\n" + forms, text)
+        text = re.sub(r"  erase_more:\n(    .*\n)+", "  erase_more:\n" + forms, text)
         return re.sub(r"  count:\n(    .*\n)+", "  count:\n" + forms, text)
 
     _translate(folder, "ru", russian)
