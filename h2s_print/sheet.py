@@ -21,7 +21,8 @@ from . import templates
 from .errors import RenderError
 from .config import MIN_MARGIN_MM
 from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt, Rect, Text,
-                     PT_MM, _arrow, _clip_segment, _crossings, _crossings_many, _frame_box,
+                     PT_MM, _arrow, _boxes_overlap, _clip_segment, _crossings, _crossings_many,
+                     _frame_box,
                      _green_corners, _level_name,
                      _segments, _t, clip_polyline, fit_line, plain_text, text_width_mm,
                      vp_names)
@@ -148,19 +149,22 @@ def perspective_grid(plan: ViewPlan, frame: Box2) -> list[Polyline]:
         dist = np.hypot(rel[:, 0], rel[:, 1])
         far = float(dist.max())
         inside = x0 < v[0] < x1 and y0 < v[1] < y1
-        if inside:
-            lo, hi = 0.0, 2 * math.pi
-        else:  # the frame's span seen from the VP (under half a turn: the frame is convex)
-            mid = math.atan2(*(corners.mean(axis=0) - v)[::-1])
-            ang = [(math.atan2(r[1], r[0]) - mid + math.pi) % (2 * math.pi) - math.pi
-                   for r in rel]
-            lo, hi = mid + min(ang), mid + max(ang)
+        lo, hi = (0.0, 2 * math.pi) if inside else _seen_span(v, corners)
         n = max(8, min(90, int(math.ceil((hi - lo) * far / GRID_SPACING_MM))))
         for k in range(1, n) if not inside else range(n):
             t = lo + (hi - lo) * k / n
             add((float(v[0]), float(v[1])),
                 (float(v[0] + (far + reach) * math.cos(t)), float(v[1] + (far + reach) * math.sin(t))))
     return out
+
+
+def _seen_span(v: np.ndarray, corners: np.ndarray) -> tuple[float, float]:
+    """The directions (radians, ``lo`` < ``hi``) from ``v``, a point outside the frame with
+    ``corners``, that cross the frame: under half a turn, the frame being convex."""
+    rel = corners - v
+    mid = math.atan2(*(corners.mean(axis=0) - v)[::-1])
+    ang = [(math.atan2(r[1], r[0]) - mid + math.pi) % (2 * math.pi) - math.pi for r in rel]
+    return mid + min(ang), mid + max(ang)
 
 
 def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
@@ -567,24 +571,6 @@ TICK_PT = 6.0
 TICK_CORNER_MM = 20.0
 
 
-def _frame_hits(v: Pt, d: Pt, frame: Box2) -> list[tuple[float, Pt]]:
-    """Where the line ``v + t d`` crosses the rectangle ``frame``'s border: ``(t, point)``,
-    by ``t``, two of them when it passes through."""
-    x0, y0, x1, y1 = frame
-    out: list[tuple[float, Pt]] = []
-    for axis, lo, hi in ((0, x0, x1), (1, y0, y1)):
-        if abs(d[axis]) < 1e-12:
-            continue
-        for edge in (lo, hi):
-            t = (edge - v[axis]) / d[axis]
-            p = (v[0] + t * d[0], v[1] + t * d[1])
-            o = 1 - axis
-            if (y0, x0)[axis] - 1e-9 <= p[o] <= (y1, x1)[axis] + 1e-9:
-                out.append((t, p))
-    out.sort()
-    return [out[0], out[-1]] if len(out) >= 2 else []
-
-
 def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
              drawing: np.ndarray | None = None) -> list[Item]:
     """Ticks on the frame toward each vanishing point that lies off the sheet, in named pairs.
@@ -619,24 +605,20 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
             continue  # on the sheet: a ruler reaches it
         side = vp_side(vp, centre)
         prefix = _t(f"sheet.tick_names.{side}")
-        angles = [math.atan2(c[1] - v[1], c[0] - v[0]) for c in corners]
-        ref = angles[0]
-        spread = [math.remainder(a - ref, 2 * math.pi) for a in angles]
-        lo, hi = min(spread), max(spread)
+        lo, hi = _seen_span(np.asarray(v), np.asarray(corners, dtype=float))
+        reach = max(math.dist(v, c) for c in corners)
         pairs = []
         for k in range(TICK_PAIRS):
-            a = ref + lo + (k + 0.5) / TICK_PAIRS * (hi - lo)
+            a = lo + (k + 0.5) / TICK_PAIRS * (hi - lo)
             d = (math.cos(a), math.sin(a))
-            hits = _frame_hits(v, d, frame)
-            if len(hits) < 2 or math.dist(hits[0][1], hits[1][1]) < TICK_CHORD * min(
+            # where the line through the point crosses the frame: in, then out
+            hit = _clip_segment(v, (v[0] + reach * d[0], v[1] + reach * d[1]), frame)
+            if hit is None or math.dist(*hit) < TICK_CHORD * min(
                     frame[2] - frame[0], frame[3] - frame[1]):
                 continue  # across a corner: too short a baseline for the ruler
-            ticks = []
-            for t, p in hits:
-                inward = 1.0 if t == hits[0][0] else -1.0
-                q = (p[0] + inward * TICK_MM * d[0], p[1] + inward * TICK_MM * d[1])
-                ticks.append((p, q))
-            pairs.append(ticks)
+            (p, q) = hit
+            pairs.append([(p, (p[0] + TICK_MM * d[0], p[1] + TICK_MM * d[1])),
+                          (q, (q[0] - TICK_MM * d[0], q[1] - TICK_MM * d[1]))])
         kept: list[list[tuple[Pt, Pt, Text]]] = []
         for ticks in pairs:
             made = []
@@ -658,7 +640,7 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
             tboxes = [tx.box_mm for tx in texts]
             seg = np.array([[p[0], p[1], q[0], q[1]] for p, q, _ in made])
             pad = [(b[0] - 1.0, b[1] - 0.8, b[2] + 1.0, b[3] + 0.8) for b in tboxes]
-            if any(_boxes_meet(b, o) for b in pad for o in taken) or any(
+            if any(_boxes_overlap(b, o) for b in pad for o in taken) or any(
                     _crossings(lines, b) for b in pad) or any(
                     _crossings(seg[i:i + 1], o) for i in range(len(seg)) for o in taken):
                 continue
@@ -702,10 +684,6 @@ def _beside_heading(ticks: list[Item], items: list[Item]) -> list[Item]:
                  "left out")
         return []
     return [replace(it, size_pt=size) if it is legend else it for it in ticks]
-
-
-def _boxes_meet(a: Box2, b: Box2) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 #: The perspective grid leaves this much room around each label on the sheet, mm.
