@@ -1029,6 +1029,7 @@ class _Context:
     _box_steps: dict[str, int] = field(default_factory=dict)
     _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
     _edges: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _parts: tuple[list[list[str]], set[str]] | None = None
     _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
     names: dict[str, PartName] = field(default_factory=dict)
@@ -1734,9 +1735,7 @@ class _Context:
         lines lie on a box edge of ``around`` (those the scaffold leaves out) and on no edge
         the scaffold draws?  Not when it lies on the face the scaffold draws whole (the
         camera's prism's top, the bowl's rim face)."""
-        prim = self.plan.primitive(part)
-        drawn = [(np.asarray(st.points3d[0], dtype=float), np.asarray(st.points3d[-1], dtype=float))
-                 for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+        drawn = self.scaffold_ends(part)
         missing = [(np.asarray(ln.start, dtype=float), np.asarray(ln.end, dtype=float))
                    for ln in around]
 
@@ -1751,16 +1750,22 @@ class _Context:
         ends = [np.asarray(q, dtype=float) for ln in con.lines for q in (ln.start, ln.end)]
         return any(on(p, missing) and not on(p, drawn) for p in ends)
 
+    def scaffold_ends(self, part: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The 3D ends of ``part``'s scaffold strokes in its selected box (computed once)."""
+        if part not in self._scaffold_ends:
+            prim = self.plan.primitive(part)
+            self._scaffold_ends[part] = [
+                (np.asarray(st.points3d[0], dtype=float), np.asarray(st.points3d[-1], dtype=float))
+                for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+        return self._scaffold_ends[part]
+
     def box_around(self, part: str) -> list[_Line]:
         """For a part whose scaffold does not draw its selected box's faces (a frustum), the
         box edges the scaffold leaves out (role ``vanishing``); else nothing."""
-        prim = self.plan.primitive(part)
-        if prim.type != "frustum":
+        if self.plan.primitive(part).type != "frustum":
             return []
-        box = self.chosen[part].box
-        drawn = [(np.asarray(st.points3d[0]), np.asarray(st.points3d[-1]))
-                 for st in _scaffold(part, prim, box, self.camera, self.tol)]
-        pts = _box_corners(box)
+        drawn = self.scaffold_ends(part)
+        pts = _box_corners(self.chosen[part].box)
         out = []
         for i in range(8):
             for j in range(i + 1, 8):
