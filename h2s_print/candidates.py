@@ -412,7 +412,6 @@ class _Context:
     ancestry: dict[str, dict[str, str]] = field(default_factory=dict)
     counters: dict[str, int] = field(default_factory=dict)
     seen: dict[tuple, str] = field(default_factory=dict)  # (part, box, parents) -> id
-    again: bool = False  # commit hands back stored candidates made again (extend_candidates)
 
 
 def _extent(box: Box, axis: int) -> float:
@@ -639,8 +638,10 @@ class _Generator:
                          axis=prim.axis)
         return cand, ancestry
 
-    def commit(self, batch: list[tuple[Candidate, dict]]) -> list[Candidate]:
-        """Name, dedupe and store a batch of new candidates; returns the stored ones."""
+    def commit(self, batch: list[tuple[Candidate, dict]], again: bool = False
+               ) -> list[Candidate]:
+        """Name, dedupe and store a batch of new candidates; returns the stored ones, and with
+        ``again`` (off a selection) also those stored before that the batch made again."""
         # Same part, box and parents: keep the cheapest way of anchoring it.
         best: dict[tuple, tuple[Candidate, dict]] = {}
         stored: set[str] = set()
@@ -671,7 +672,7 @@ class _Generator:
             self.ctx.order.append(named.id)
             self.ctx.ancestry[named.id] = {**ancestry, cand.part: named.id}
             out.append(named)
-        if self.ctx.again:  # made again off this round's parents: they parent the next level
+        if again:  # made again off this round's parents: they parent the next level
             out += sorted((self.ctx.cands[i] for i in stored), key=_cand_sort_key)
         limit = self.ctx.settings.max_candidates
         if len(self.ctx.cands) > limit:
@@ -1085,7 +1086,7 @@ class _Generator:
                         or _largest_extent(ctx.prims[part].box) <= 0):
                     continue
                 batch.extend(self.anchor_part(part, pool, fresh))
-            anchored = self.commit(batch)
+            anchored = self.commit(batch, seeds is not None)
             restored_batch: list[tuple[Candidate, dict]] = []
             by_part: dict[str, list[Candidate]] = {}
             for c in anchored:
@@ -1094,7 +1095,7 @@ class _Generator:
             for part in sorted(by_part):
                 for c in self.best_diverse(by_part[part], RESTORE_PER_PART):
                     restored_batch.extend(self.restore(c))
-            restored = self.commit(restored_batch)
+            restored = self.commit(restored_batch, seeds is not None)
             new = anchored + restored
             log.debug("level %d: %d anchored, %d restored candidates", level, len(anchored),
                       len(restored))
@@ -1251,7 +1252,6 @@ def extend_candidates(primitives: Sequence[Primitive], relations: Sequence[Relat
             prefix, _, k = c.id.rstrip("*").rpartition("#")
             ctx.counters[prefix] = max(ctx.counters.get(prefix, 0), int(k))
     known = len(ctx.order)
-    ctx.again = True
     start = {by_id[cid].part: cid for cid in seeds}
     try:
         _Generator(ctx).run(start)
