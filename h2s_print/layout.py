@@ -746,23 +746,13 @@ def _segments(items: Sequence[Item]) -> np.ndarray:
 def _crossings(segs: np.ndarray, box: Box2) -> int:
     """How many of ``segs`` meet the rectangle ``box`` (separating axes: x, y, the segment's
     normal)."""
-    if not len(segs):
-        return 0
-    x0, y0, x1, y1 = box
-    sx0, sy0, sx1, sy1 = segs.T
-    near = ((np.minimum(sx0, sx1) <= x1) & (np.maximum(sx0, sx1) >= x0)
-            & (np.minimum(sy0, sy1) <= y1) & (np.maximum(sy0, sy1) >= y0))
-    if not near.any():
-        return 0
-    s = segs[near]
-    dx, dy = s[:, 2] - s[:, 0], s[:, 3] - s[:, 1]
-    sides = np.stack([dx * (cy - s[:, 1]) - dy * (cx - s[:, 0])
-                      for cx, cy in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))])
-    return int(np.count_nonzero(~((sides > 0).all(axis=0) | (sides < 0).all(axis=0))))
+    return int(_crossings_many(segs, [box])[0])
 
 
 def _crossings_many(segs: np.ndarray, boxes: Sequence[Box2]) -> np.ndarray:
-    """:func:`_crossings` of each of ``boxes``, at once: an int array, one count a box."""
+    """:func:`_crossings` of each of ``boxes``, at once: an int array, one count a box (a
+    segment meets a box when their x and y ranges overlap and the box's corners are not all
+    on one side of the segment's line)."""
     if not len(boxes):
         return np.zeros(0, dtype=int)
     if not len(segs):
@@ -1221,9 +1211,9 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     """The step's "you may erase ..." line (empty when nothing retires): the lines by their
     letters ("Afterwards you may erase AC, BD and FG.") when the ends of each are lettered on
     this step's picture, the others by their number and where to see which ("... AC and 2
-    more guide lines: the next picture no longer shows them.").  A guide that runs along an edge of the scaffold is erased only
-    beyond it (the mixer's KU along the column's edge KL is "LU"), and not at all when it
-    lies on the edge whole (:func:`_off_edges`).  ``edges``: the scaffold edges drawn by
+    more guide lines: the next picture no longer shows them.").  A guide that runs along an
+    edge of the scaffold is erased only beyond it (the mixer's KU along the column's edge KL
+    is "LU"), and not at all when it lies on the edge whole (:func:`_off_edges`).  ``edges``: the scaffold edges drawn by
     step ``i`` (:func:`_erase_hints` gathers them)."""
     if i + 1 >= len(plan.steps):
         return ""
