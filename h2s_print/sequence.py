@@ -1139,8 +1139,8 @@ class _Context:
                     continue
                 if r.type == "coplanar":  # both faces of an axis may line up, one each
                     mine_end = r.detail.get("a_end" if r.a == part else "b_end", "lo")
-                    if axis in used and mine_end in ends.get(axis, set()) | (
-                            set() if axis in ends else {"lo", "hi"}):
+                    said = ends.get(axis)  # None: the axis was said otherwise, or not asked
+                    if axis in used and (said is None or mine_end in said):
                         continue
                     ends.setdefault(axis, set()).add(mine_end)
                 elif axis in used:
@@ -1382,13 +1382,11 @@ class _Context:
         tutorial at once (:func:`h2s_print.instructions.letter_steps`)."""
         # a line is drawn from the first step that uses it to the last (the guides' lifetime):
         # its ends stay on the paper that long
-        span: dict[tuple, tuple[int, int, Vec3, Vec3]] = {}
+        last: dict[tuple, tuple[int, Vec3, Vec3]] = {}  # by line: its last step, its ends
         for k, d in enumerate(drafts):
             for ln in d.lines:
-                key = points_key((ln.start, ln.end), self.tol)
-                first = span.get(key, (k, k, ln.start, ln.end))[0]
-                span[key] = (first, k, ln.start, ln.end)
-        on_paper = [(p, last) for _, last, a, b in span.values() for p in (a, b)]
+                last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
+        on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
         done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper)
         return [replace(d, substeps=tuple(subs), labels=tuple(labels))
                 for d, (subs, labels) in zip(drafts, done)]
