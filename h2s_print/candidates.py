@@ -91,6 +91,10 @@ level's parents are offered are taken round-robin over the candidates' sets of a
 a parent part that do not descend from the child itself.  Measured on the camera: the 16
 cheapest prisms all hung off the flash, so the flash could hang off none of them.
 
+Of a part's combinations of axis options, only those pruning could keep are built: cheapest
+lower bound first, stopping once none left can be kept (``_Generator.build_cheapest``; the
+same candidates as building all of them).
+
 A candidate that could never be selected is dropped: one whose ancestors include two candidates
 of one part or a candidate of its own part, or whose box breaks a preserved relation with an
 ancestor (ancestors are always selected with it).
@@ -131,6 +135,7 @@ then generation order.  An id that clashes with an existing one (a part named li
 
 from __future__ import annotations
 
+import functools
 import itertools
 import logging
 import math
@@ -361,6 +366,21 @@ def relation_holds_table(relation: Relation, boxes_a: Sequence[Box], boxes_b: Se
     return out
 
 
+def _holds(relation: Relation, box_a: Box, box_b: Box) -> bool:
+    """:func:`relation_holds` with its one-axis cases written out (the generator asks it
+    hundreds of thousands of times): the same arithmetic, so the same answers."""
+    if relation.type == "coaxial":
+        return relation_holds(relation, box_a, box_b)
+    axis = relation.axis
+    if relation.type == "coplanar":
+        fa = box_a[0 if relation.detail.get("a_end", "lo") == "lo" else 1][axis]
+        fb = box_b[0 if relation.detail.get("b_end", "lo") == "lo" else 1][axis]
+    else:
+        fa = 0.5 * (box_a[0][axis] + box_a[1][axis])
+        fb = 0.5 * (box_b[0][axis] + box_b[1][axis])
+    return abs(fa - fb) <= relation.tolerance + _EPS * max(1.0, abs(fa), abs(fb))
+
+
 def preserved_relations(relations: Iterable[Relation]) -> tuple[Relation, ...]:
     """The relations selection must keep (``detail["preserved"]`` true), sorted."""
     return tuple(sorted((r for r in relations if r.detail.get("preserved")),
@@ -577,8 +597,7 @@ class _Generator:
             if cid is None:
                 continue
             obox = self.ctx.cands[cid].box
-            ok = relation_holds(rel, box, obox) if rel.a == part else relation_holds(rel, obox, box)
-            if not ok:
+            if not (_holds(rel, box, obox) if rel.a == part else _holds(rel, obox, box)):
                 return False
         return True
 
@@ -601,14 +620,15 @@ class _Generator:
             if a.face_normal == a.axis:  # aligned with a flat parent's plane: a line of its own
                 key, across = (a.parent, a.face_normal, a.face_side or "", a.axis), False
             else:
-                first = min(k for k in range(3) if k != a.face_normal)
-                key, across = (a.parent, a.face_normal, a.face_side or "", -1), a.axis != first
+                # the face's first axis is the lowest one besides its normal
+                key, across = ((a.parent, a.face_normal, a.face_side or "", -1),
+                               a.axis != (1 if a.face_normal == 0 else 0))
             groups.setdefault(key, []).append((a.ratio, across))
         total = 0.0
         for key in sorted(groups):
             pid, normal, _, axis = key
             area = _face_area_of(self.ctx.cands[pid].box, axis, normal)
-            total += (distinct_face_lines(groups[key]) * self.ctx.a_ref
+            total += (_face_lines_of(tuple(groups[key])) * self.ctx.a_ref
                       / max(area, 1e-6 * self.ctx.a_ref))
         return self.ctx.settings.guide_cost * total
 
@@ -704,6 +724,13 @@ class _Generator:
         orig = self.ctx.prims[part].box
         mc = self.ctx.settings.max_change
         found: list[dict[tuple, _End]] = [dict() for _ in range(3)]
+        # per axis: each interval point's input coordinate and how far an anchor may move it
+        targets = []
+        for axis in range(3):
+            reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
+            reach_mid = mc * _norm_length(orig, axis) * (1 + 1e-9)
+            targets.append([(end, _point(orig, axis, end), reach_mid if end == "mid" else reach)
+                            for end in POINTS])
         for parent_part, rel in self.ctx.coplanar.get(part, ()):
             side = (rel.detail.get("b_end" if rel.a == part else "a_end")
                     if rel.type == "coplanar" else None)
@@ -711,23 +738,21 @@ class _Generator:
             for pid in self.usable(part, parent_pool.get(parent_part, ())):
                 pbox = self.ctx.cands[pid].box
                 for axis in range(3):
-                    reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
-                    reach_mid = mc * _norm_length(orig, axis) * (1 + 1e-9)
                     normal, fside, area = _face_for(pbox, axis, plane, side)
+                    better = (area, fside is not None)
                     entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
                     for entry in entries:
                         value = _ratio_value(pbox, axis, entry.ratio)
-                        for end in POINTS:
-                            target = _point(orig, axis, end)
-                            if abs(value - target) > (reach_mid if end == "mid" else reach):
+                        for end, target, reach in targets[axis]:
+                            if abs(value - target) > reach:
                                 continue
-                            anchor = Anchor(axis, end, pid, entry.ratio, entry.guide_lines,
-                                            normal, fside)
                             key = (end, pid, entry.ratio)
                             old = found[axis].get(key)
                             # prefer the larger face; on a tie, the shared plane itself
-                            if old is None or (area, fside is not None) > (
-                                    old.face_area, old.anchor.face_side is not None):
+                            if old is None or better > (old.face_area,
+                                                        old.anchor.face_side is not None):
+                                anchor = Anchor(axis, end, pid, entry.ratio, entry.guide_lines,
+                                                normal, fside)
                                 found[axis][key] = _End(value, anchor, parent_part, area)
         out: list[dict[str, list[_End]]] = []
         for axis in range(3):
@@ -814,8 +839,10 @@ class _Generator:
         for c in range(int(parent.max()) + 1):
             e = pool[int(np.argmax(parent == c))]
             rels = pairs.get((part, e.parent_part), ())
+            if not rels:
+                continue
             uses = (parent[first] == c) | (two & (parent[sec] == c))
-            if not rels or not uses.any():
+            if not uses.any():
                 continue
             pbox = self.ctx.cands[e.anchor.parent].box
             p_lo, p_hi = pbox[0][axis], pbox[1][axis]
@@ -834,10 +861,12 @@ class _Generator:
                             for e in pool])
         ratio = [e.anchor.ratio for e in pool]
         area = np.array([max(e.face_area, floor) for e in pool])
-        one = np.array([distinct_lines([r]) for r in ratio], dtype=float) * a_ref / area
+        one = np.array([_lines_of((r,)) for r in ratio], dtype=float) * a_ref / area
         shared = two & (face[first] == face[sec])
-        both = np.array([distinct_lines([ratio[x], ratio[y]]) if sh else 0
-                         for x, y, sh in zip(first, sec, shared)], dtype=float)
+        both = np.zeros(len(first))
+        at = np.nonzero(shared)[0]
+        both[at] = [_lines_of((ratio[x], ratio[y])) for x, y in zip(first[at].tolist(),
+                                                                   sec[at].tolist())]
         diff = np.where(shared, both * a_ref / area[sec],
                         one[first] + np.where(two & ~shared, one[sec], 0.0))
         diff = diff * self.ctx.settings.guide_cost
@@ -857,7 +886,8 @@ class _Generator:
             g_first, g_second)
         is_fresh = np.array([bool(fresh) and e.anchor.parent in fresh for e in pool])
         g_fresh = is_fresh[first] | (two & is_fresh[sec])
-        _, group = np.unique(np.stack([g_lo, g_hi, g_fresh.astype(int)]), axis=1,
+        n_codes = int(pp.max()) + 2  # codes and the -1 of a single end
+        _, group = np.unique(((g_lo + 1) * n_codes + (g_hi + 1)) * 2 + g_fresh,
                              return_inverse=True)
         group = group.ravel()
         if total is None:
@@ -865,23 +895,21 @@ class _Generator:
         left = np.bincount(group[order], minlength=int(group.max()) + 1).tolist()
         taken = [0] * len(left)
         open_groups = sum(1 for n in left if n)  # groups that may still take an option
-        accepted: list[tuple[int, int, _AxisOption]] = []  # (place in group, rank, option)
+        accepted: list[tuple[int, int, int]] = []  # (place in group, rank, row)
         groups = group[order].tolist()
         for x, g in zip(order.tolist(), groups):
             left[g] -= 1
             if taken[g] < per_group:
-                accepted.append((taken[g], len(accepted), self._option(
-                    pool, int(first[x]), int(second[x]), float(los[x]), float(his[x]),
-                    int(free[x]), axis, orig)))
+                accepted.append((taken[g], len(accepted), x))
                 taken[g] += 1
                 if taken[g] == per_group or left[g] == 0:
                     open_groups -= 1
                     if not open_groups:
                         break  # every group has its options, or none left
-        if total is None:
-            return [opt for _, _, opt in accepted]
-        chosen = sorted(accepted, key=lambda t: (t[0], t[1]))[:total]
-        return [opt for _, _, opt in sorted(chosen, key=lambda t: t[1])]
+        if total is not None:
+            accepted = sorted(sorted(accepted)[:total], key=lambda t: t[1])
+        return [self._option(pool, int(first[x]), int(second[x]), float(los[x]),
+                             float(his[x]), int(free[x]), axis, orig) for _, _, x in accepted]
 
     def _option(self, pool: Sequence[_End], i: int, j: int, lo: float, hi: float, free: int,
                 axis: int, orig: Box) -> _AxisOption:
@@ -939,20 +967,120 @@ class _Generator:
                                             AXIS_OPTIONS)
             unguided = _AxisOption(orig[0][axis], orig[1][axis], (), 2.0, ())
             per_axis.append([unguided] + kept + self.recentred(part, axis, parent_pool))
+        # per option: (unguided, parent ids if anchored, parent ids if unguided)
+        tagged = [[(o, o.unguided, frozenset(pid for _, pid in o.parents if o.anchors),
+                    frozenset(pid for _, pid in o.parents if o.unguided)) for o in options]
+                  for options in per_axis]
+        combos: list[tuple[_AxisOption, ...]] = []
+        for (o0, u0, a0, r0), (o1, u1, a1, r1), (o2, u2, a2, r2) in itertools.product(*tagged):
+            if u0 and u1 and u2:
+                continue
+            anchored_ids = a0 | a1 | a2
+            if not (r0 | r1 | r2) <= anchored_ids:  # re-centred only with that parent's anchors
+                continue
+            if fresh and fresh.isdisjoint(anchored_ids):
+                continue
+            combos.append((o0, o1, o2))
+        return _diverse(self.build_cheapest(part, combos, CANDIDATES_PER_PART, True),
+                        CANDIDATES_PER_PART, self.w_a, self.w_d)
+
+    def build_cheapest(self, part: str, combos: Sequence[tuple[_AxisOption, ...]], k: int,
+                       diverse: bool, extra_parents: Sequence[str] = ()
+                       ) -> list[tuple[Candidate, dict]]:
+        """The candidates of ``combos`` (one option per axis) that :func:`_diverse` (``diverse``)
+        or the plain ``k`` cheapest would keep, and possibly some more; never fewer.
+
+        A part may have hundreds of combinations of which a few are kept.  They are built
+        cheapest *bound* first and building stops once no combination left can be kept.  The
+        bound is exact arithmetic on what the options know: E_d is the sum of the axes'
+        costs (a cylinder's rounding may change one cross axis: then only the cheaper of the
+        two counts), and E_e is at least the largest of the options' own, since construction
+        lines are only ever shared, never removed (``difficulty`` grows with the anchors).
+        A combination costs at least its bound, so
+
+        * plain: once ``k`` built cost less than every bound left, the rest cannot enter;
+        * diverse (round-robin over ancestor-part sets, :func:`_diverse`): a candidate built
+          and cheaper than every bound left (*settled*) keeps its place in its set.  Any other
+          one ranks at least ``n`` in its set, ``n`` the settled ones of that set; with ``m``
+          the least such ``n`` over the sets that still have others, a settled candidate of
+          place ``<= m`` comes before every other.  Once ``k`` do, the rest cannot enter.
+
+        The test ``test_candidates.test_build_cheapest_equals_building_all`` checks that the
+        result keeps what building every combination keeps.
+        """
+        own: dict[int, float] = {}  # id(option) -> its own E_e
+
+        def group(combo: tuple[_AxisOption, ...]) -> frozenset[str]:
+            parts: set[str] = set()
+            for o in combo:
+                for a in o.anchors:
+                    parts.update(self.ctx.ancestry[a.parent])
+            for pid in extra_parents:
+                parts.update(self.ctx.ancestry[pid])
+            parts.discard(part)
+            return frozenset(parts)
+
+        ranked = sorted(((self.bound(part, c, own), i) for i, c in enumerate(combos)))
+        left: dict[frozenset[str], int] = {}
+        groups = [group(c) for c in combos] if diverse else []
+        for g in groups:
+            left[g] = left.get(g, 0) + 1
         made: list[tuple[Candidate, dict]] = []
-        for combo in itertools.product(*per_axis):
-            if all(o.unguided for o in combo):
-                continue
-            anchored_ids = {pid for o in combo if o.anchors for _, pid in o.parents}
-            if not {pid for o in combo if o.unguided for _, pid in o.parents} <= anchored_ids:
-                continue
-            if fresh and not anchored_ids & fresh:
-                continue
-            box = ((combo[0].lo, combo[1].lo, combo[2].lo), (combo[0].hi, combo[1].hi, combo[2].hi))
-            built = self.build(part, box, [a for o in combo for a in o.anchors])
+        costs: list[tuple[float, frozenset[str]]] = []
+        decided_at = -1.0  # the bound last checked: a check is made only when the bound grows
+        for n, (low, i) in enumerate(ranked):
+            if len(made) >= k and low > decided_at:
+                if self._decided(costs, low, left, k, diverse):
+                    break
+                decided_at = low
+            o = combos[i]
+            box = ((o[0].lo, o[1].lo, o[2].lo), (o[0].hi, o[1].hi, o[2].hi))
+            built = self.build(part, box, [*o[0].anchors, *o[1].anchors, *o[2].anchors],
+                               extra_parents)
+            if diverse:
+                left[groups[i]] -= 1
             if built is not None:
                 made.append(built)
-        return _diverse(made, CANDIDATES_PER_PART, self.w_a, self.w_d)
+                costs.append((built[0].cost(self.w_a, self.w_d),
+                              groups[i] if diverse else frozenset()))
+        return made
+
+    def bound(self, part: str, combo: tuple[_AxisOption, ...],
+              own: dict[int, float] | None = None) -> float:
+        """A lower bound of the weighted cost of the candidate ``combo`` builds
+        (:meth:`build_cheapest`); ``own`` remembers the options' own E_e between calls."""
+        own = {} if own is None else own
+        prim = self.ctx.prims[part]
+        costs = [o.cost_adjust for o in combo]
+        if prim.type == "cylinder" and prim.axis is not None:  # rounding may move one cross axis
+            adjust = costs[prim.axis] + min(costs[a] for a in range(3) if a != prim.axis)
+        else:
+            adjust = costs[0] + costs[1] + costs[2]
+        diff = 0.0
+        for o in combo:
+            d = own.get(id(o))
+            if d is None:
+                d = own[id(o)] = self.difficulty(o.anchors) if o.anchors else 0.0
+            diff = max(diff, d)
+        return (self.w_a * adjust + self.w_d * diff) * (1 - 1e-9)
+
+    @staticmethod
+    def _decided(costs: Sequence[tuple[float, frozenset[str]]], low: float,
+                 left: Mapping[frozenset[str], int], k: int, diverse: bool) -> bool:
+        """True when no combination of bound ``low`` or more can be kept (``build_cheapest``)."""
+        if not diverse:
+            return sum(1 for c, _ in costs if c < low) >= k
+        settled: dict[frozenset[str], int] = {}
+        others = {g for g, n in left.items() if n}
+        for c, g in costs:
+            if c < low:
+                settled[g] = settled.get(g, 0) + 1
+            else:
+                others.add(g)
+        if not others:
+            return True
+        m = min(settled.get(g, 0) for g in others)
+        return sum(min(n, m + 1) for n in settled.values()) >= k
 
     def recentred(self, part: str, axis: int, parent_pool: Mapping[str, Sequence[str]]
                   ) -> list[_AxisOption]:
@@ -1000,13 +1128,8 @@ class _Generator:
                                                         OPTIONS_PER_AXIS, None)
                     per_axis.append([_AxisOption(obox[0][axis], obox[1][axis], (), 2.0, ())]
                                     + anchored)
-            options: list[tuple[Candidate, dict]] = []
-            for combo in itertools.product(*per_axis):
-                box = ((combo[0].lo, combo[1].lo, combo[2].lo),
-                       (combo[0].hi, combo[1].hi, combo[2].hi))
-                built = self.build(other, box, [a for o in combo for a in o.anchors], (cand.id,))
-                if built is not None:
-                    options.append(built)
+            options = self.build_cheapest(other, list(itertools.product(*per_axis)),
+                                          RESTORED_PER_RELATION, False, (cand.id,))
             options.sort(key=lambda ca: (ca[0].cost(self.w_a, self.w_d), _cand_sort_key(ca[0])))
             made.extend(options[:RESTORED_PER_RELATION])
         return made
@@ -1146,6 +1269,18 @@ def _diverse(made: Sequence[tuple[Candidate, Mapping[str, str]]], k: int, w_a: f
 
 def _lines(ratio: float) -> int:
     return entry_for(ratio).guide_lines
+
+
+@functools.lru_cache(maxsize=4096)
+def _face_lines_of(anchors: tuple[tuple[float, bool], ...]) -> int:
+    """``distinct_face_lines(anchors)``, remembered (as :func:`_lines_of`)."""
+    return distinct_face_lines(anchors)
+
+
+@functools.lru_cache(maxsize=1024)
+def _lines_of(ratios: tuple[float, ...]) -> int:
+    """``distinct_lines(ratios)``, remembered: a few catalogue ratios recur millions of times."""
+    return distinct_lines(ratios)
 
 
 def _face_area_of(pbox: Box, axis: int, normal: int) -> float:

@@ -55,12 +55,12 @@ relations hold between the input primitives) and is handed to SCIP as a start so
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import logging
 import math
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
-import numpy as np
 from pyscipopt import Model, quicksum
 
 from .candidates import Candidate, preserved_relations, relation_holds, relation_holds_table
@@ -164,8 +164,9 @@ def _conflicts(rel: Relation, cands_a: Sequence[Candidate],
     """For each candidate of ``rel.a``, the candidates of ``rel.b`` it breaks ``rel`` with."""
     out: dict[str, tuple[str, ...]] = {}
     holds = relation_holds_table(rel, [c.box for c in cands_a], [c.box for c in cands_b])
-    for ca, row in zip(cands_a, holds):
-        bad = tuple(cands_b[j].id for j in np.flatnonzero(~row))
+    ids_b = [c.id for c in cands_b]
+    for ca, breaks in zip(cands_a, (~holds).tolist()):
+        bad = tuple(itertools.compress(ids_b, breaks))
         if bad:
             out[ca.id] = bad
     return out

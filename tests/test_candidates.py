@@ -535,3 +535,51 @@ def test_relation_holds_table_is_relation_holds_for_every_pair(kind):
     want = [[relation_holds(r, p, q) for q in boxes] for p in boxes]
     assert table.tolist() == want
     assert 0 < table.sum() < table.size
+    # the generator's written-out check (candidates._holds) answers the same
+    from h2s_print.candidates import _holds
+
+    assert [[_holds(r, p, q) for q in boxes] for p in boxes] == want
+
+
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_build_cheapest_equals_building_all(model, monkeypatch):
+    """Issue 13: building combinations cheapest bound first and stopping early keeps exactly
+    what building every combination keeps: the same candidates for each part and level
+    (``_diverse``) and for each restored relation (the cheapest few), at every call; and it
+    does stop early somewhere, so the bound is exercised."""
+    from h2s_print import candidates as C
+    from h2s_print.relate import detect_relations
+
+    if model == "camera":
+        prims, rels = camera()
+    else:
+        prims = [prim(f"p{i:02d}", (10.0 * (i % 4), 12.0 * (i // 4), 0.0),
+                      (10.0 * (i % 4) + 9.5 + (i % 3), 12.0 * (i // 4) + 10.0, 5.0 + (i % 5)))
+                 for i in range(12)]
+        rels = detect_relations(prims)
+    lazy = C._Generator.build_cheapest
+    skipped = []
+
+    def kept(self, made, k, diverse):
+        if diverse:
+            return [c for c, _ in C._diverse(made, k, self.w_a, self.w_d)]
+        return sorted((c for c, _ in made),
+                      key=lambda c: (c.cost(self.w_a, self.w_d), C._cand_sort_key(c)))[:k]
+
+    def both(self, part, combos, k, diverse, extra_parents=()):
+        got = lazy(self, part, combos, k, diverse, extra_parents)
+        every = []
+        for o in combos:
+            b = self.build(part, ((o[0].lo, o[1].lo, o[2].lo), (o[0].hi, o[1].hi, o[2].hi)),
+                           [*o[0].anchors, *o[1].anchors, *o[2].anchors], extra_parents)
+            if b is not None:
+                # the bound is one: never above the cost of what the combination builds
+                assert self.bound(part, o) <= b[0].cost(self.w_a, self.w_d), (part, o)
+                every.append(b)
+        assert kept(self, got, k, diverse) == kept(self, every, k, diverse), part
+        skipped.append(len(every) - len(got))
+        return got
+
+    monkeypatch.setattr(C._Generator, "build_cheapest", both)
+    generate_candidates(prims, rels, SolverSettings())
+    assert len(skipped) >= 5 and max(skipped) > 0
