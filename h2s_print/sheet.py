@@ -607,48 +607,27 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
         prefix = _t(f"sheet.tick_names.{side}")
         lo, hi = _seen_span(np.asarray(v), np.asarray(corners, dtype=float))
         reach = max(math.dist(v, c) for c in corners)
-        pairs = []
-        for k in range(TICK_PAIRS):
-            a = lo + (k + 0.5) / TICK_PAIRS * (hi - lo)
-            d = (math.cos(a), math.sin(a))
-            # where the line through the point crosses the frame: in, then out
-            hit = _clip_segment(v, (v[0] + reach * d[0], v[1] + reach * d[1]), frame)
-            if hit is None or math.dist(*hit) < TICK_CHORD * min(
-                    frame[2] - frame[0], frame[3] - frame[1]):
-                continue  # across a corner: too short a baseline for the ruler
-            (p, q) = hit
-            pairs.append([(p, (p[0] + TICK_MM * d[0], p[1] + TICK_MM * d[1])),
-                          (q, (q[0] - TICK_MM * d[0], q[1] - TICK_MM * d[1]))])
-        kept: list[list[tuple[Pt, Pt, Text]]] = []
-        for ticks in pairs:
-            made = []
-            for p, q in ticks:
-                if min(math.dist(p, c) for c in corners) < TICK_CORNER_MM:
-                    break
-                # the name just inside the tick's inner end, toward the frame's middle
-                ix = q[0] + (1.5 if q[0] < centre[0] else -1.5)
-                iy = q[1] + (1.0 if q[1] < centre[1] else -3.0)
-                text = Text(ix, iy, "", TICK_PT, "Helvetica", "start" if q[0] < centre[0]
-                            else "end", "black", "vp_tick_label")
-                made.append((p, q, text))
-            else:
-                kept.append(made)
         n = 0
-        for made in kept:
-            name = f"{prefix}{n + 1}"
-            texts = [replace(t, string=name) for _, _, t in made]
-            tboxes = [tx.box_mm for tx in texts]
-            seg = np.array([[p[0], p[1], q[0], q[1]] for p, q, _ in made])
-            pad = [(b[0] - 1.0, b[1] - 0.8, b[2] + 1.0, b[3] + 0.8) for b in tboxes]
-            if any(_boxes_overlap(b, o) for b in pad for o in taken) or any(
-                    _crossings(lines, b) for b in pad) or any(
-                    _crossings(seg[i:i + 1], o) for i in range(len(seg)) for o in taken):
-                continue
+        kept: list[tuple[float, list[tuple[Pt, Pt, Text]]]] = []  # (angle, ticks and names)
+        # the evenly spread lines first; where fewer than two pairs fit, the lines half-way
+        # between them too (the desk's vanishing point below: every one of the first seven
+        # had a tick on the label or the arrow of that very point)
+        for fractions in ([(k + 0.5) / TICK_PAIRS for k in range(TICK_PAIRS)],
+                          [k / TICK_PAIRS for k in range(1, TICK_PAIRS)]):
+            if len(kept) >= 2:
+                break
+            for f in fractions:
+                a = lo + f * (hi - lo)
+                made = _tick_pair(v, a, reach, frame, corners, centre, taken, lines, prefix)
+                if made is not None:
+                    kept.append((a, made))
+                    taken += [tx.box_mm for _, _, tx in made]
+        kept.sort(key=lambda am: am[0])  # numbered along the frame
+        for _, made in kept:
             n += 1
-            taken += tboxes
-            for (p, q, _), tx in zip(made, texts):
+            for p, q, tx in made:
                 out.append(Polyline((p, q), "black", 0.3, (), False, "vp_tick"))
-                out.append(tx)
+                out.append(replace(tx, string=f"{prefix}{n}"))
         if n:
             named.append(f"{prefix}1" if n == 1 else
                          _t("sheet.ticks_range", first=f"{prefix}1", last=f"{prefix}{n}"))
@@ -658,6 +637,47 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
         out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.5 * w, 7),
                         "Helvetica", "end", "black", "vp_tick_legend"))
     return out
+
+
+def _tick_pair(v: Pt, angle: float, reach: float, frame: Box2, corners: Sequence[Pt],
+               centre: Pt, taken: Sequence[Box2], lines: np.ndarray, prefix: str
+               ) -> list[tuple[Pt, Pt, Text]] | None:
+    """The two ticks (and their names) where the line from ``v`` at ``angle`` crosses the
+    frame, or None where it cannot be marked (:func:`vp_ticks`): a chord too short for the
+    ruler, a tick near a green corner, or a tick or its name on a text or a line.  A name
+    sits just inside its tick's inner end, toward the frame's middle, or else on the tick's
+    other side, always inside the frame."""
+    d = (math.cos(angle), math.sin(angle))
+    # where the line through the point crosses the frame: in, then out
+    hit = _clip_segment(v, (v[0] + reach * d[0], v[1] + reach * d[1]), frame)
+    if hit is None or math.dist(*hit) < TICK_CHORD * min(frame[2] - frame[0],
+                                                          frame[3] - frame[1]):
+        return None  # across a corner: too short a baseline for the ruler
+    (p0, q0) = hit
+    made: list[tuple[Pt, Pt, Text]] = []
+    for p, q in ((p0, (p0[0] + TICK_MM * d[0], p0[1] + TICK_MM * d[1])),
+                 (q0, (q0[0] - TICK_MM * d[0], q0[1] - TICK_MM * d[1]))):
+        if min(math.dist(p, c) for c in corners) < TICK_CORNER_MM:
+            return None
+        seg = np.array([[p[0], p[1], q[0], q[1]]])
+        if any(_crossings(seg, o) for o in taken):
+            return None
+        inward = q[0] < centre[0]
+        iy = q[1] + (1.0 if q[1] < centre[1] else -3.0)
+        for right in (inward, not inward):
+            # named when numbered; the digits are equally wide, so the box is the name's
+            text = Text(q[0] + (1.5 if right else -1.5), iy, f"{prefix}1", TICK_PT,
+                        "Helvetica", "start" if right else "end", "black", "vp_tick_label")
+            b = text.box_mm
+            pad = (b[0] - 1.0, b[1] - 0.8, b[2] + 1.0, b[3] + 0.8)
+            inside = frame[0] < pad[0] and pad[2] < frame[2] and frame[1] < pad[1] and \
+                pad[3] < frame[3]
+            if inside and not (any(_boxes_overlap(pad, o) for o in taken) or _crossings(lines, pad)):
+                made.append((p, q, text))
+                break
+        else:
+            return None
+    return made
 
 
 def _beside_heading(ticks: list[Item], items: list[Item]) -> list[Item]:
