@@ -565,14 +565,33 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
     from ``step``) draw, cited with the step that drew it (an earlier one for a line reused)."""
     cited: dict[int, list[Pts]] = {}
     carried: list[int] = []
+    moved = _carried(groups)
     for k, g in enumerate(groups):
         for u in g:
             for i, r in enumerate(u.results):
-                cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
+                if tuple(r) not in moved:
+                    cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
             if any(x.key in _CARRIES for x in u.specs):
                 carried.append(step + k)
     return ([spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
             + [spec("reuse_carried", step=n) for n in carried])
+
+
+def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
+    """The lines (end points, both ways round) that the units of ``groups`` carry to the
+    part.  Such a line is cited as carried ("Use the lines carried in step 9"), not also as
+    itself ("Use FG from step 2"): the part sits on the carried copy, which the step names
+    (:func:`_citations`, and the placing step's own citations)."""
+    out: set[tuple] = set()
+    for g in groups:
+        for u in g:
+            for x in u.specs:
+                if x.key in _CARRIES:
+                    for name, v in x.fields:
+                        if name in ("lines", "lines2"):
+                            for run in line_runs(v):
+                                out.update((tuple(run.points), tuple(run.points)[::-1]))
+    return out
 
 
 #: Sub-steps that carry lines to the part (the carry unit's).
@@ -925,6 +944,14 @@ def _moving_axis(line: _Line) -> int:
     """The model axis a carrying line runs along."""
     d = np.abs(np.asarray(line.end, dtype=float) - np.asarray(line.start, dtype=float))
     return int(np.argmax(d))
+
+
+def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
+    """Is the point ``p`` on the infinite line through ``a`` and ``b`` (within ``tol``)?"""
+    a_, d = np.asarray(a, dtype=float), np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    w = np.asarray(p, dtype=float) - a_
+    n = float(np.linalg.norm(d))
+    return n > 0.0 and float(np.linalg.norm(np.cross(d, w))) <= tol * n
 
 
 def _runs_along(run: Pts, axis: int) -> bool:
@@ -1563,10 +1590,16 @@ class _Context:
             carry_unit = units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part,
                                                    carrying, carry_lines)
         placing: list[Spec] = list(flat)
-        for anchor, ppart, face, con, *_ in built:  # a mid-plane anchor: the part straddles a line
-            if anchor.end == "mid":
-                placing.append(spec("centred", (), ("centred",), part=name,
-                                    line=Pts((con.result.start, con.result.end))))
+        for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
+            if anchor.end == "mid":                       # straddles a line
+                line = (con.result.start, con.result.end)
+                # carried off its own line: the line the carry ends on, lettered, is the one
+                # at the part (the plate's dowel read "Centre dowel 4 on AB" with AB the
+                # plate's front edge, far from the dowel)
+                if carry and not all(_on_line(p, *line, self.tol)
+                                     for p in (carry[-1].start, carry[-1].end)):
+                    line = (carry[-1].start, carry[-1].end)
+                placing.append(spec("centred", (), ("centred",), part=name, line=Pts(line)))
         # an axis with no anchor at all: say what it lines up with, as for a part by eye
         placing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
         # no line constructed (faces and planes of drawn parts only): no "these lines" to name
@@ -1601,7 +1634,10 @@ class _Context:
         last = groups[-1]
         here = step + len(groups) - 1
         before = [u for g in groups[:-1] for u in g]
-        mine = _citations(groups[:-1], step) + [x for u in last for x in u.specs if not (x.same and x.same in said)]
+        moved = _carried(groups[:-1])
+        mine = _citations(groups[:-1], step) + [
+            x for u in last for x in u.specs if not (x.same and x.same in said)
+            and not (x.key == "reuse" and tuple(dict(x.fields)["line"].points) in moved)]
         subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
         self.record(last, here, described)
         # the box is drawn on the carried lines: carried in a guides step, they stay (the

@@ -1554,3 +1554,37 @@ def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
                             assert max(abs(d)) > 1 - 1e-6, (name, step.index, s)
                             extended += 1
     assert carried and extended
+
+
+def test_a_part_is_centred_on_a_line_that_reaches_it(examples):
+    """"Centre the frame shaft on EN" names a line that reaches the part: after a carry, the
+    carried copy at the part, not the line it was carried from (the plate's dowel read
+    "Centre dowel 4 on AB", AB the plate's front edge far from the dowel; the roller's frame
+    shaft "on FG", FG on the roller).  Checked on the lettered points' 3D positions: the
+    segment between them comes within a hair of the part's box, and lies in one plane with
+    the box's middle across it."""
+    from h2s_print.templates import lookup
+
+    centre = lookup("steps", "substep.centred").split("{")[0]  # "Centre "
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            for step in views[(view.name, "novice")].steps:
+                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in step.labels}
+                for s in step.substeps:
+                    if not s.startswith(centre) or " on " not in s:
+                        continue
+                    for line in re.findall(LINE, s.split(" on ")[-1]):
+                        p, q = (at[x] for x in re.findall(r"[A-Z]'*", line))
+                        lo, hi = (np.asarray(x, dtype=float) for x in chosen[step.part].box)
+                        pts = p + np.linspace(0.0, 1.0, 401)[:, None] * (q - p)
+                        gap = np.linalg.norm(pts - np.clip(pts, lo, hi), axis=1).min()
+                        assert gap <= 1e-6 * np.linalg.norm(hi - lo), (name, step.index, s)
+                        # the line runs in the plane of the part's middle across one axis
+                        assert any(abs(p[a] - q[a]) <= 1e-9 * np.linalg.norm(hi - lo)
+                                   and abs(p[a] - 0.5 * (lo[a] + hi[a]))
+                                   <= 1e-6 * np.linalg.norm(hi - lo) for a in range(3)), \
+                            (name, step.index, s)
+                        checked += 1
+    assert checked
