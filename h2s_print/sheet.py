@@ -660,7 +660,7 @@ def _tick_pair(v: Pt, angle: float, reach: float, frame: Box2, corners: Sequence
         if min(math.dist(p, c) for c in corners) < TICK_CORNER_MM:
             return None
         seg = np.array([[p[0], p[1], q[0], q[1]]])
-        if any(_crossings(seg, o) for o in taken):
+        if _crossings_many(seg, taken).any():
             return None
         inward = q[0] < centre[0]
         iy = q[1] + (1.0 if q[1] < centre[1] else -3.0)
