@@ -579,12 +579,29 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
     zoom = _close_up(view, step, _segments(items), _segments(kept), room)
     if zoom is None:
         return items + place_labels(view, step.labels, items)
-    region, zview = zoom
-    items += place_labels(view, [lb for lb in step.labels if lb.kind == "part"], items)
+    region, zview, small = zoom
+
+    def inside(lb: Label) -> bool:  # labels of what the close-up shows go there
+        x, y = view.map(lb.at_mm)
+        return region[0] <= x <= region[2] and region[1] <= y <= region[3]
+
+    # crowded letters: the letters in the close-up, the parts' names on the picture; a small
+    # part: every label it shows in the close-up, the others on the picture
+    there = [lb for lb in step.labels if (inside(lb) if small else lb.kind == "point")]
     x0, y0, x1, y1 = zview.rect
     style = STYLES["close_up"]
     frames = [Polyline(((a, b), (c, b), (c, d), (a, d)), style.colour, style.width_mm,
                        style.dash_mm, True, "close_up_frame") for a, b, c, d in (region, zview.rect)]
+    lines = _drawing(zview, plan, i)
+    try:
+        close = place_labels(zview, there, lines + [frames[1]])
+    except RenderError:
+        if not small:
+            raise
+        # the names do not fit the close-up (the oven's five buttons): on the picture
+        there = [lb for lb in there if lb.kind == "point"]
+        close = place_labels(zview, there, lines + [frames[1]])
+    items += place_labels(view, [lb for lb in step.labels if lb not in there], items)
     items += [Rect(region[0], region[1], region[2] - region[0], region[3] - region[1],
                    None, 0.0, None, "close_up_region"), frames[0],
               Rect(x0, y0, x1 - x0, y1 - y0, None, 0.0, "white", "close_up")]
@@ -595,9 +612,7 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
     items.append(Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0,
                       _t("step.close_up"), size, "Helvetica-Oblique", "end" if right else "start",
                       "green", "close_up_caption"))
-    lines = _drawing(zview, plan, i)
-    return items + lines + [frames[1]] + place_labels(
-        zview, [lb for lb in step.labels if lb.kind == "point"], lines + [frames[1]])
+    return items + lines + [frames[1]] + close
 
 
 #: A step's lettered points get a close-up when two of them lie closer than this on the
@@ -621,14 +636,21 @@ CLOSE_UP_PAD_MM = 3.0
 #: (the room for it is kept, :func:`_close_up`).
 CLOSE_UP_INSET_MM = 1.5
 CLOSE_UP_CAPTION_PT = 6.5
+#: A step whose new lines all fit in a square this wide on the picture (page mm) draws a part
+#: too small to follow (the oven's five buttons, one orange blob 8 mm wide): it gets a
+#: close-up too, magnified toward :data:`CLOSE_UP_SMALL_TARGET_MM` across.
+CLOSE_UP_SMALL_MM = 12.0
+CLOSE_UP_SMALL_TARGET_MM = 36.0
 
 
 def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
-              room: Box2 | None = None) -> tuple[Box2, _View] | None:
+              room: Box2 | None = None) -> tuple[Box2, _View, bool] | None:
     """Where a crowded step's letters go: the region round its lettered points (page mm) and
     the view that magnifies it into a corner (or the middle of an edge) of the picture, or
     None when the letters have room (no two points closer than :data:`CLOSE_UP_CROWDED_MM`)
-    or no place can take the close-up without covering the region or a part's name.  Of the
+    or no place can take the close-up without covering the region or a part's name.  A step
+    whose letters have room but whose new lines are small (within :data:`CLOSE_UP_SMALL_MM`)
+    gets a close-up of those lines instead (the third value True).  Of the
     places that can, the one hiding the fewest lines of the object (``drawn``, segments of
     its strokes), then the most magnified (a smaller close-up is tried where the largest
     covers the object), then the one hiding the fewest lines of any kind (``segs``).  First
@@ -636,20 +658,30 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
     on the side nearer the frame that leaves room for the least zoom: there it hides
     nothing."""
     pts = [view.map(lb.at_mm) for lb in step.labels if lb.kind == "point"]
-    if len(pts) < 2:
-        return None
-    closest = min(math.dist(a, b) for k, a in enumerate(pts) for b in pts[k + 1:])
-    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
-    each = (max(xs) - min(xs)) * (max(ys) - min(ys)) / len(pts)  # room per letter, mm²
-    dense = len(pts) >= CLOSE_UP_DENSE_LETTERS and each < CLOSE_UP_ROOM_MM2
-    if closest >= CLOSE_UP_CROWDED_MM and not dense:
-        return None
+    crowded = False
+    if len(pts) >= 2:
+        closest = min(math.dist(a, b) for k, a in enumerate(pts) for b in pts[k + 1:])
+        xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+        each = (max(xs) - min(xs)) * (max(ys) - min(ys)) / len(pts)  # room per letter, mm²
+        dense = len(pts) >= CLOSE_UP_DENSE_LETTERS and each < CLOSE_UP_ROOM_MM2
+        crowded = closest < CLOSE_UP_CROWDED_MM or dense
     pad = CLOSE_UP_PAD_MM
-    region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
+    if crowded:
+        region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
+        wanted = max(CLOSE_UP_SPACING_MM / max(closest, 1e-9),
+                     math.sqrt(2.0 * CLOSE_UP_ROOM_MM2 / max(each, 1e-9)) if dense else 0.0)
+    else:
+        new = [view.map(p) for st in step.strokes for p in st.points_mm]
+        if not new:
+            return None
+        xs, ys = [p[0] for p in new], [p[1] for p in new]
+        side = max(max(xs) - min(xs), max(ys) - min(ys))
+        if side >= CLOSE_UP_SMALL_MM:
+            return None
+        region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
+        wanted = CLOSE_UP_SMALL_TARGET_MM / max(side, 1e-9)
     rw, rh = region[2] - region[0], region[3] - region[1]
     x0, y0, x1, y1 = view.rect
-    wanted = max(CLOSE_UP_SPACING_MM / max(closest, 1e-9),
-                 math.sqrt(2.0 * CLOSE_UP_ROOM_MM2 / max(each, 1e-9)) if dense else 0.0)
     s = view.scale
     window = (view.window[0] + (region[0] - x0) / s, view.window[1] + (region[1] - y0) / s,
               view.window[0] + (region[2] - x0) / s, view.window[1] + (region[3] - y0) / s)
@@ -664,13 +696,17 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
                 w, h = rw * z, rh * z
                 bx = lo if lo > x1 else hi - w  # against the picture
                 by = min(max(0.5 * (region[1] + region[3]) - h / 2, y0), y1 - h)
-                return region, _View(window, (bx, by, bx + w, by + h))
+                return region, _View(window, (bx, by, bx + w, by + h)), not crowded
     zoom = min(CLOSE_UP_MAX_ZOOM, wanted,
                CLOSE_UP_SHARE * (x1 - x0) / rw, CLOSE_UP_SHARE * (y1 - y0) / rh)
     if zoom < CLOSE_UP_MIN_ZOOM:
         return None
     m = CLOSE_UP_INSET_MM
-    names = [view.map(lb.at_mm) for lb in step.labels if lb.kind == "part"]
+    # the labels the picture keeps, which the close-up must not cover: the parts' names, and
+    # for a small part every label outside the region it magnifies
+    names = [q for q, kind in ((view.map(lb.at_mm), lb.kind) for lb in step.labels)
+             if (kind == "part" if crowded else
+                 not (region[0] <= q[0] <= region[2] and region[1] <= q[1] <= region[3]))]
     best: tuple[tuple[int, float, int], Box2] | None = None
     # largest first, smaller (down to the least zoom) where a larger one covers the object
     for z in (zoom * f for f in (1.0, 0.85, 0.7, 0.55)):
@@ -692,7 +728,7 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
             break
     if best is None:
         return None
-    return region, _View(window, best[1])
+    return region, _View(window, best[1]), not crowded
 
 
 def _drawing(view: _View, plan: ViewPlan, i: int) -> list[Item]:

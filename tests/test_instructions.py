@@ -158,6 +158,40 @@ def _pictures(page, plan):
     return [(r, r.w_mm / plan.paper_mm[0]) for r in rects]
 
 
+def test_a_small_new_part_is_shown_enlarged(examples):
+    """A step whose new lines all fit within ``CLOSE_UP_SMALL_MM`` on its picture (a
+    read-through: the oven's five buttons were one orange blob 8 mm wide) has a close-up;
+    where its letters did not ask for one, the close-up's region holds all those lines and
+    magnifies them at least ``CLOSE_UP_MIN_ZOOM`` times."""
+    small = held = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != "novice":
+                continue
+            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                     if p.kind == "steps"]
+            for step, page in zip(vp.steps, pages):
+                rect, scale = _pictures(page, vp)[0]
+                pts = np.array([p for st in step.strokes for p in st.points_mm], dtype=float)
+                if not len(pts):
+                    continue
+                pts = pts * scale + (rect.x_mm, rect.y_mm)  # on the page
+                if max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])) >= L.CLOSE_UP_SMALL_MM:
+                    continue
+                small += 1
+                regions = [it for it in page.items if isinstance(it, L.Rect)
+                           and it.role == "close_up_region"]
+                closes = [it for it in page.items if isinstance(it, L.Rect)
+                          and it.role == "close_up"]
+                assert regions and closes, (name, view, step.index)
+                r, c = regions[0], closes[0]
+                if (np.all(pts >= (r.x_mm - 1e-6, r.y_mm - 1e-6))
+                        and np.all(pts <= (r.x_mm + r.w_mm + 1e-6, r.y_mm + r.h_mm + 1e-6))):
+                    assert c.w_mm / r.w_mm >= L.CLOSE_UP_MIN_ZOOM - 1e-9
+                    held += 1
+    assert small and held
+
+
 @pytest.mark.parametrize("level", ["novice", "apprentice"])
 def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples, level):
     """Each letter at its point's projection (through the close-up's magnification when the
@@ -215,7 +249,10 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                     want = h[:2] / h[2]  # the point's projection, sheet mm
                     d = drawn[lb.name]
                     x, y = d.cx_mm, d.cy_mm
-                    if zoom is not None:  # letters in the close-up: back to the picture
+                    in_close = zoom is not None and (
+                        zoom[1].x_mm <= x <= zoom[1].x_mm + zoom[1].w_mm
+                        and zoom[1].y_mm <= y <= zoom[1].y_mm + zoom[1].h_mm)
+                    if in_close:  # letters in the close-up: back to the picture
                         region, close = zoom
                         z = close.w_mm / region.w_mm
                         assert close.h_mm / region.h_mm == pytest.approx(z)
