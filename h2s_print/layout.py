@@ -608,9 +608,13 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
     # its caption outside it, on the side toward the middle of the picture
     size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
     below = (y0 + y1) / 2 > (view.rect[1] + view.rect[3]) / 2
-    right = x0 > view.rect[2]  # beside the picture on its right: the caption ends at its edge
+    # beside the picture on its right, or too long to run right from its left edge within
+    # the picture (a German caption ran off the page): the caption ends at its right edge
+    caption = _t("step.close_up")
+    right = x0 > view.rect[2] or (
+        x0 + text_width_mm(caption, size, "Helvetica-Oblique") > view.rect[2])
     items.append(Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0,
-                      _t("step.close_up"), size, "Helvetica-Oblique", "end" if right else "start",
+                      caption, size, "Helvetica-Oblique", "end" if right else "start",
                       "green", "close_up_caption"))
     return items + lines + [frames[1]] + close
 
