@@ -157,7 +157,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -831,36 +831,26 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
 
 
-def _paired(drafts: Sequence[_Draft], headline: str, say: Any) -> list[_Draft]:
-    """Consecutive outline drafts two to a step: a drawing teacher does not give each small
-    part a page of its own."""
-    out: list[_Draft] = []
-    single = True
-    for d in drafts:
-        prev = out[-1] if out else None
-        if prev is not None and single and prev.kind == d.kind:
-            members = prev.group + d.group
-            both = list(prev.specs) + list(d.specs)
-            # small ellipses first (in one sentence for both parts), then one tracing sub-step
-            small = [x for x in both if x.key == "ellipse_by_eye_part"]
-            if len(small) > 1:
-                one = spec("ellipse_by_eye_parts", the_parents=_join(
-                    [_the(dict(x.fields)["part"]) for x in small]))
-                both = [one] + [x for x in both if x.key != "ellipse_by_eye_part"]
-            both = ([x for x in both if not x.key.startswith("contour")]
-                    + [x for x in both if x.key.startswith("contour")][:1])
-            out[-1] = replace(prev, strokes=prev.strokes + d.strokes, lines=prev.lines + d.lines,
-                              specs=tuple(unique_specs(both)),
-                              eyeball=prev.eyeball or d.eyeball, group=members)
-            single = False
-        else:
-            out.append(d)
-            single = True
-    for k, d in enumerate(out):
-        if len(d.group) > 1:
-            out[k] = replace(d, headline=_t(f"headline.{headline}",
-                                            Parts=_cap(_join([say(q) for q in d.group]))))
-    return out
+def _merged_outlines(prev: _Draft, d: _Draft, say: Any) -> _Draft:
+    """Two outline drafts as one step: small ellipses first (in one sentence for both
+    parts' ellipses sketched by eye), then one tracing sub-step; named after all its parts."""
+    members = prev.group + d.group
+    both = list(prev.specs) + list(d.specs)
+    small = [x for x in both if x.key in ("ellipse_by_eye_part", "ellipse_by_eye_parts")]
+    if len(small) > 1:
+        names = [n for x in small for n in (
+            [dict(x.fields)["part"]] if x.key == "ellipse_by_eye_part"
+            else list(dict(x.fields)["parts"]))]
+        one = spec("ellipse_by_eye_parts", parts=tuple(names),
+                   the_parents=_join([_the(n) for n in names]))
+        both = [one] + [x for x in both if x not in small]
+    both = ([x for x in both if not x.key.startswith("contour")]
+            + [x for x in both if x.key.startswith("contour")][:1])
+    return replace(prev, strokes=prev.strokes + d.strokes, lines=prev.lines + d.lines,
+                   specs=tuple(unique_specs(both)), eyeball=prev.eyeball or d.eyeball,
+                   group=members,
+                   headline=_t("headline.contour_many", Parts=_cap(_join([say(q)
+                                                                        for q in members]))))
 
 
 #: The lines a sub-step draws, by template key (fields holding two points each).
@@ -2256,25 +2246,43 @@ class _Context:
                                                     part=self.say(head)),) + merged[k].specs)
                 else:
                     drafts.append(e)
-            merged = _paired(merged, "contour_many", self.say)
-            # a round part's outline: its two ellipses and the two lines touching both, which
-            # no scaffold line gives (the read-through: "trace" did not say to draw them); one
-            # sentence for the step's round parts, after their ellipses, before the tracing
-            for k, d in enumerate(merged):
-                rounds = [q for q in d.group if _round(self.plan.primitive(q))
-                          and self.plan.primitive(q).type in ("cylinder", "frustum")]
-                if rounds:
-                    leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
-                    if len(leads) == 1 and len(rounds) > 1:  # one part and its copies
-                        join = spec("round_sides_copies", the_parents=_the(self.say(leads[0])))
-                    else:
-                        join = spec("round_sides_many" if len(rounds) > 1 else "round_sides",
-                                    the_parents=_join([_the(self.say(q)) for q in rounds]))
-                    at_trace = next(i for i, x in enumerate(d.specs) if x.key.startswith("contour"))
-                    merged[k] = replace(d, specs=d.specs[:at_trace] + (join,) + d.specs[at_trace:])
-            drafts += merged
+            drafts += self.pack_outlines(merged, lead)
             self._guided = tuple(self.letter(drafts))
         return self._guided
+
+    def pack_outlines(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
+        """Consecutive outline drafts packed into steps while the text stays within
+        :data:`MAX_STEP_WORDS`: a drawing teacher does not give each small part a page of its
+        own (before stop 24: two to a step, whatever their length; the roller's high-right
+        view took four outline steps for seven parts)."""
+        out: list[_Draft] = []
+        for d in drafts:
+            if out and out[-1].kind == d.kind:
+                both = _merged_outlines(out[-1], d, self.say)
+                if self.step_words(self.round_sides(both, lead).specs,
+                                   both.headline) <= MAX_STEP_WORDS:
+                    out[-1] = both
+                    continue
+            out.append(d)
+        return [self.round_sides(d, lead) for d in out]
+
+    def round_sides(self, d: _Draft, lead: Mapping[str, str]) -> _Draft:
+        """An outline draft with the sentence joining its round parts' ellipses: the two
+        lines touching both, which no scaffold line gives (the read-through: "trace" did not
+        say to draw them); one sentence for the step's round parts, after their ellipses,
+        before the tracing."""
+        rounds = [q for q in d.group if _round(self.plan.primitive(q))
+                  and self.plan.primitive(q).type in ("cylinder", "frustum")]
+        if not rounds:
+            return d
+        leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
+        if len(leads) == 1 and len(rounds) > 1:  # one part and its copies
+            join = spec("round_sides_copies", the_parents=_the(self.say(leads[0])))
+        else:
+            join = spec("round_sides_many" if len(rounds) > 1 else "round_sides",
+                        the_parents=_join([_the(self.say(q)) for q in rounds]))
+        at = next(i for i, x in enumerate(d.specs) if x.key.startswith("contour"))
+        return replace(d, specs=d.specs[:at] + (join,) + d.specs[at:])
 
     def basic(self) -> tuple[_Draft, ...]:
         if self._basic is None:

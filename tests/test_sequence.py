@@ -1588,3 +1588,23 @@ def test_a_part_is_centred_on_a_line_that_reaches_it(examples):
                             (name, step.index, s)
                         checked += 1
     assert checked
+
+
+def test_a_tutorial_stays_within_its_steps_per_shape(examples):
+    """Issue 11's length: at most 2.5 steps per distinct part shape (congruent selected boxes,
+    ``_Context.congruent``), plus 3, in every example view at novice.  Outline steps are packed
+    up to the word limit, not two to a step: the roller's high-right view took four outline
+    steps for seven parts and 21 steps against its 20.5."""
+    from h2s_print import sequence as seq
+
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        boxes = {p: c.box for p, c in chosen.items()}
+        for view in t.views:
+            ctx = seq._context(plan, view, t.paper, t.sequence)
+            classes: list[str] = []
+            for p in sorted(boxes):
+                if not any(ctx.congruent(c, p, boxes) for c in classes):
+                    classes.append(p)
+            vp = views[(view.name, "novice")]
+            assert len(vp.steps) <= 2.5 * len(classes) + 3, (name, view.name, len(vp.steps))
