@@ -483,21 +483,27 @@ def _reference_axis_options(g, part, axis, ends, fresh, per_group, total):
     return [(ranked[i][1], ranked[i][2], ranked[i][3]) for i in chosen]
 
 
+def _generator_model(model):
+    """(primitives, relations) of the camera, or of a generated 12-part assembly with shared
+    faces and relations ("shared-faces"): the generator's equivalence tests run on both."""
+    from h2s_print.relate import detect_relations
+
+    if model == "camera":
+        return camera()
+    prims = [prim(f"p{i:02d}", (10.0 * (i % 4), 12.0 * (i // 4), 0.0),
+                  (10.0 * (i % 4) + 9.5 + (i % 3), 12.0 * (i // 4) + 10.0, 5.0 + (i % 5)))
+             for i in range(12)]
+    return prims, detect_relations(prims)
+
+
 @pytest.mark.parametrize("model", ["camera", "shared-faces"])
 def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
     """Issue 13: the options of every axis, computed on arrays, are exactly those of the
     definition (every option built and ranked one by one), at every level and in stage (ii),
     on the camera and on a generated 12-part assembly with shared faces and relations."""
     from h2s_print import candidates as C
-    from h2s_print.relate import detect_relations
 
-    if model == "camera":
-        prims, rels = camera()
-    else:
-        prims = [prim(f"p{i:02d}", (10.0 * (i % 4), 12.0 * (i // 4), 0.0),
-                      (10.0 * (i % 4) + 9.5 + (i % 3), 12.0 * (i // 4) + 10.0, 5.0 + (i % 5)))
-                 for i in range(12)]
-        rels = detect_relations(prims)
+    prims, rels = _generator_model(model)
     fast = C._Generator.ranked_axis_options
     checked = []
 
@@ -548,15 +554,8 @@ def test_build_cheapest_equals_building_all(model, monkeypatch):
     (``_diverse``) and for each restored relation (the cheapest few), at every call; and it
     does stop early somewhere, so the bound is exercised."""
     from h2s_print import candidates as C
-    from h2s_print.relate import detect_relations
 
-    if model == "camera":
-        prims, rels = camera()
-    else:
-        prims = [prim(f"p{i:02d}", (10.0 * (i % 4), 12.0 * (i // 4), 0.0),
-                      (10.0 * (i % 4) + 9.5 + (i % 3), 12.0 * (i // 4) + 10.0, 5.0 + (i % 5)))
-                 for i in range(12)]
-        rels = detect_relations(prims)
+    prims, rels = _generator_model(model)
     lazy = C._Generator.build_cheapest
     skipped = []
 
