@@ -1028,7 +1028,7 @@ class _Generator:
         made: list[tuple[Candidate, dict]] = []
         costs: list[tuple[float, frozenset[str]]] = []
         decided_at = -1.0  # the bound last checked: a check is made only when the bound grows
-        for n, (low, i) in enumerate(ranked):
+        for low, i in ranked:
             if len(made) >= k and low > decided_at:
                 if self._decided(costs, low, left, k, diverse):
                     break

@@ -567,8 +567,9 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
 
 def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
                 room: Box2 | None = None) -> list[Item]:
-    """The cumulative drawing at step ``i`` (0-based) in ``view``, lettered; crowded letters
-    go in a close-up (:func:`_close_up`), beside the picture within ``room`` or in it."""
+    """The cumulative drawing at step ``i`` (0-based) in ``view``, lettered; crowded letters,
+    or a part too small to follow, go in a close-up (:func:`_close_up`), beside the picture
+    within ``room`` or in it."""
     step = plan.steps[i]
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
     drawing = _drawing(view, plan, i)
