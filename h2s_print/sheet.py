@@ -258,6 +258,14 @@ def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
     return True
 
 
+def _on_texts(lines: Sequence[Polyline], items: Sequence[Item]) -> bool:
+    """Does any of ``lines`` (a label's arrow) cross a text already in ``items``?  (The desk's
+    horizon arrow ran through the left vanishing point's label.)"""
+    segs = _segments(list(lines))
+    boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
+    return bool(len(segs) and boxes and _crossings_many(segs, boxes).any())
+
+
 def _hull(points: Sequence[Pt]) -> np.ndarray:
     """The convex hull of ``points``, counter-clockwise (n, 2); empty when degenerate."""
     from scipy.spatial import ConvexHull, QhullError
@@ -542,14 +550,17 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # off its lines only; else clear of the other labels only; else the first
         texts, extra = options[0]
         for avoid, inside in ((area, hull), (shadow, None), (None, None)):
-            fit = next((o for o in options if _fits(o[0], items, frame, avoid, inside)), None)
+            fit = next((o for o in options if _fits(o[0], items, frame, avoid, inside)
+                        and not _on_texts(o[1], items)), None)
             if fit is not None:
                 texts, extra = fit
                 break
             moved = _clear_of_texts(options[0][0], items, frame, False, avoid, inside)
-            if moved is not None:
-                texts = moved
+            if moved is not None:  # moved off its arrow: the words say where without it
+                texts, extra = moved, []
                 break
+        if _on_texts(extra, items):  # nor an arrow through another label (the desk's horizon)
+            extra = []
         items += extra
         items += texts
     items += _beside_heading(vp_ticks(plan, frame, items, shadow), items)

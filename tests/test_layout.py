@@ -954,3 +954,36 @@ def test_every_line_style_of_a_step_picture_has_a_key(examples):
                          else "guide_reused" for g in step.guides}
             assert used <= keys, (name, view, level, used - keys)
             assert "new_hidden" in used  # every example draws a box with hidden edges
+
+
+def _arrows_clear_of_texts(name, view, sheet):
+    arrows = [it for it in sheet.items if isinstance(it, L.Polyline)
+              and it.role in ("vp_arrow", "horizon_arrow")]
+    boxes = [it.box_mm for it in sheet.items if isinstance(it, L.Text) and it.string]
+    assert not L._crossings_many(L._segments(arrows), boxes).any(), (name, view)
+
+
+def test_no_sheet_arrow_runs_through_a_label(examples):
+    """The drawing sheet's arrows (toward vanishing points, and the horizon's when it lies off
+    the frame) cross no text.  A horizon note moved off its arrow goes without one: it says
+    "above the frame"."""
+    for name, view, _, _, sheet in _novice_sheets(examples):
+        _arrows_clear_of_texts(name, view, sheet)
+
+
+def test_the_desks_horizon_arrow_no_longer_runs_through_a_label(shared_models):
+    """The read-through's case: the IKEA desk's high-right sheet drew the horizon's arrow
+    through the left vanishing point's label."""
+    from pathlib import Path
+
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
+                      / "desk_fredrik.yaml")
+    plan = build_plan(t.model, t.solver)
+    for view in t.views:
+        vp, = seq.sequence_views(plan, view, ("novice",), t.paper, t.sequence)
+        _arrows_clear_of_texts("desk", view.name,
+                               S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm))
