@@ -504,7 +504,7 @@ def test_sheet_horizon_and_far_vanishing_points():
         d = np.subtract(vp.xy_mm, tip)
         shaft = np.subtract(tip, arrows[0::2][tips.index(tip)].points_mm[0])
         assert np.dot(d, shaft) / np.linalg.norm(d) / np.linalg.norm(shaft) > 0.99
-    assert "vertical edges: vanishing point at infinity (lines stay parallel)" in labels
+    assert "vertical edges: keep them parallel (no vanishing point)" in labels
     # the offset from the nearest green corner locates the VP exactly (to the printed mm)
     detail = [t.string for t in texts(page, "vp_detail")]
     vx = [vp for vp in finite if vp.axis == 0][0].xy_mm
