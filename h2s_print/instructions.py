@@ -23,9 +23,10 @@ Letters (decisions where the issue is silent)
 * **A point keeps its letter** from the first step that names it to the last (a guide reused
   later keeps its letters, and so does a face used again): :func:`letter_steps` letters the
   whole tutorial at once, so that two points named in overlapping stretches of steps never
-  share a letter, and each new point takes the first letter free over its stretch (each
-  picture shows only its own step's letters, so pages start again near ``A`` once earlier
-  points are done with).
+  share a letter, and each new point takes the letter free longest: one never used first, in
+  alphabetical order, so a letter names a second point only after the whole alphabet has
+  been used (a beginner's read-through of the bottle met B, C and E as the body's corners on
+  one page and the neck's two pages later; before stop 24 pages started again near ``A``).
 * **A letter rests one step** (:data:`REST`) after its point's last step before it names
   another point: the page just turned never used a letter of this page for something else.
   A reader who found the mixer's column corners H and J on one page read H and J as its
@@ -139,10 +140,11 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
 
     A point *lives* from the first step that names it to the last; two points whose lives
     overlap get different letters, and a point keeps its letter all its life (module docstring,
-    *Letters*).  Letters are given greedily in order of first mention, each point the first
-    letter that no living point holds and that named no other point in the :data:`REST`
-    steps before (when every plain letter is living or resting, the first one not living:
-    ``A'`` is harder to read than a letter the page before used).
+    *Letters*).  Letters are given greedily in order of first mention, each point the letter
+    free longest (never used first, then the one whose last point ended earliest) among those
+    that no living point holds and that named no other point in the :data:`REST` steps
+    before (when every plain letter is living or resting, the one free longest among those
+    not living: ``A'`` is harder to read than a letter the page before used).
 
     Args:
         steps: each step's sub-steps, in order.
@@ -198,10 +200,15 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             busy = {x for end, x in held if end >= k - REST}
             if busy.issuperset(ALPHABET):  # no plain letter rests enough: a resting one
                 busy = {x for end, x in held if end >= k}  # before a primed one
-            n = 0
-            while _letter(n) in busy:
-                n += 1
-            letter[i] = _letter(n)
+            free = [x for x in ALPHABET if x not in busy]
+            if free:  # the letter free longest: one never used first, in alphabetical order
+                ended = {x: end for end, x in held}  # each letter's last point's last step
+                letter[i] = min(free, key=lambda x: (ended.get(x, -1), ALPHABET.index(x)))
+            else:
+                n = len(ALPHABET)
+                while _letter(n) in busy:
+                    n += 1
+                letter[i] = _letter(n)
             held.append((last[i], letter[i]))
     out = []
     for specs, order in zip(steps, named):

@@ -100,7 +100,7 @@ def test_twins_are_said_once_in_the_plural():
 # ----------------------------------------------------------------------------- letters
 
 
-def test_a_point_keeps_its_letter_while_it_lives_letters_rest_a_step_and_skip_i_and_o():
+def test_a_point_keeps_its_letter_while_it_lives_letters_rest_and_skip_i_and_o():
     p = [(float(i), 0.0, 0.0) for i in range(30)]
     steps = [
         [spec("a", line=Pts((p[0], p[1])))],                         # A B
@@ -113,7 +113,9 @@ def test_a_point_keeps_its_letter_while_it_lives_letters_rest_a_step_and_skip_i_
     assert out[1][0] == ["b:line=CD"]
     # C and D are done with, but they named other points on the page just turned: they rest
     assert out[2][0] == ["c:line=AB", "d:x=E"]
-    assert out[3][0] == ["e:line=CD"]  # A, B and E rest now; C and D are free again
+    # A, B and E rest now, C and D are free again, but letters never used come first: a
+    # letter names a second point only once the alphabet is used up
+    assert out[3][0] == ["e:line=FG"]
     assert [n for n, _ in out[2][1]] == ["A", "B", "E"]
     assert "I" not in ALPHABET and "O" not in ALPHABET
     many = letter_steps([[spec("f", lines=Many(tuple(Pts((p[i],)) for i in range(26))))]],
@@ -121,6 +123,16 @@ def test_a_point_keeps_its_letter_while_it_lives_letters_rest_a_step_and_skip_i_
     letters = many[0][0][0].split("=")[1].split()
     assert letters[:3] == ["A", "B", "C"] and letters[24:] == ["A'", "B'"]
     assert len(set(letters)) == 26
+
+
+def test_a_letter_names_a_second_point_only_after_the_alphabet_is_used():
+    """One new point a step: the first 24 get the 24 letters, then the letter free longest
+    comes back (A, whose point ended first), never the one the page before used."""
+    p = [(float(i), 0.0, 0.0) for i in range(30)]
+    out = letter_steps([[spec("a", x=Pts((p[i],)))] for i in range(30)], 1e-9, _render)
+    names = [n for _, labels in out for n, _ in labels]
+    assert names[:24] == list(ALPHABET)
+    assert names[24:27] == ["A", "B", "C"]
 
 
 def test_a_resting_letter_is_used_again_before_a_primed_one():
