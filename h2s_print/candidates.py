@@ -136,6 +136,7 @@ then generation order.  An id that clashes with an existing one (a part named li
 from __future__ import annotations
 
 import functools
+import heapq
 import itertools
 import logging
 import math
@@ -568,6 +569,44 @@ def _round_cross(prim: Primitive, box: Box, anchors: Sequence[Anchor],
     new_lo, new_hi = list(box[0]), list(box[1])
     new_lo[follow], new_hi[follow] = lo, hi
     return (tuple(new_lo), tuple(new_hi))  # type: ignore[return-value]
+
+
+_NO_GROUP: frozenset[str] = frozenset()
+
+
+class _Settling:
+    """What :meth:`_Generator.build_cheapest` knows of the candidates it built, kept up as the
+    bound grows: those cheaper than every bound left are *settled*, counted per ancestor-part
+    set; the others wait in a heap by cost."""
+
+    def __init__(self, left: dict[frozenset[str], int]):
+        self.left = left  # combinations not built yet, per set (updated by the caller)
+        self.waiting: list[tuple[float, int, frozenset[str]]] = []  # (cost, seq, set), a heap
+        self.waits: dict[frozenset[str], int] = {}
+        self.settled: dict[frozenset[str], int] = {}
+        self.total = 0
+        self.added = 0
+
+    def add(self, cost: float, group: frozenset[str]) -> None:
+        self.added += 1
+        heapq.heappush(self.waiting, (cost, self.added, group))
+        self.waits[group] = self.waits.get(group, 0) + 1
+
+    def decided(self, low: float, k: int, diverse: bool) -> bool:
+        """True when no combination of bound ``low`` or more can be kept (the rule in
+        :meth:`_Generator.build_cheapest`)."""
+        while self.waiting and self.waiting[0][0] < low:
+            _, _, g = heapq.heappop(self.waiting)
+            self.waits[g] -= 1
+            self.settled[g] = self.settled.get(g, 0) + 1
+            self.total += 1
+        if not diverse:
+            return self.total >= k
+        others = [g for g, n in self.left.items() if n] + [g for g, n in self.waits.items() if n]
+        if not others:
+            return True
+        m = min(self.settled.get(g, 0) for g in others)
+        return sum(min(n, m + 1) for n in self.settled.values()) >= k
 
 
 class _TooMany(SelectionError):
@@ -1026,11 +1065,11 @@ class _Generator:
         for g in groups:
             left[g] = left.get(g, 0) + 1
         made: list[tuple[Candidate, dict]] = []
-        costs: list[tuple[float, frozenset[str]]] = []
+        state = _Settling(left)
         decided_at = -1.0  # the bound last checked: a check is made only when the bound grows
         for low, i in ranked:
             if len(made) >= k and low > decided_at:
-                if self._decided(costs, low, left, k, diverse):
+                if state.decided(low, k, diverse):
                     break
                 decided_at = low
             o = combos[i]
@@ -1041,8 +1080,7 @@ class _Generator:
                 left[groups[i]] -= 1
             if built is not None:
                 made.append(built)
-                costs.append((built[0].cost(self.w_a, self.w_d),
-                              groups[i] if diverse else frozenset()))
+                state.add(built[0].cost(self.w_a, self.w_d), groups[i] if diverse else _NO_GROUP)
         return made
 
     def bound(self, part: str, combo: tuple[_AxisOption, ...],
@@ -1063,24 +1101,6 @@ class _Generator:
                 d = own[id(o)] = self.difficulty(o.anchors) if o.anchors else 0.0
             diff = max(diff, d)
         return (self.w_a * adjust + self.w_d * diff) * (1 - 1e-9)
-
-    @staticmethod
-    def _decided(costs: Sequence[tuple[float, frozenset[str]]], low: float,
-                 left: Mapping[frozenset[str], int], k: int, diverse: bool) -> bool:
-        """True when no combination of bound ``low`` or more can be kept (``build_cheapest``)."""
-        if not diverse:
-            return sum(1 for c, _ in costs if c < low) >= k
-        settled: dict[frozenset[str], int] = {}
-        others = {g for g, n in left.items() if n}
-        for c, g in costs:
-            if c < low:
-                settled[g] = settled.get(g, 0) + 1
-            else:
-                others.add(g)
-        if not others:
-            return True
-        m = min(settled.get(g, 0) for g in others)
-        return sum(min(n, m + 1) for n in settled.values()) >= k
 
     def recentred(self, part: str, axis: int, parent_pool: Mapping[str, Sequence[str]]
                   ) -> list[_AxisOption]:
