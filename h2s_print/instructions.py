@@ -31,13 +31,14 @@ Letters (decisions where the issue is silent)
   another point: the page just turned never used a letter of this page for something else.
   A reader who found the mixer's column corners H and J on one page read H and J as its
   other corners on the next, and the old centre M stayed on the picture while a new M was
-  named (read-through of 2026-11-24).
+  named (read-through of 2026-11-24).  When every plain letter is living or resting, a
+  primed one (``A'``) is used rather than a resting one (since stop 24: the train's chimney
+  guides named E and H as other points on consecutive pages).
 * Two 3D points within ``tol`` are one point.
 * Sub-steps that do the same thing twice on one face (the diagonals of both half faces for
   the ¼ and ¾ lines, the two connecting lines of ⅓ and ⅔, both edges of a face) are said
   once, in the plural (:func:`unique_specs`; template key ``<key>_two`` where the plural
   needs other words).
-* Two 3D points within ``tol`` are one point.
 """
 
 from __future__ import annotations
@@ -143,8 +144,9 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
     *Letters*).  Letters are given greedily in order of first mention, each point the letter
     free longest (never used first, then the one whose last point ended earliest) among those
     that no living point holds and that named no other point in the :data:`REST` steps
-    before (when every plain letter is living or resting, the one free longest among those
-    not living: ``A'`` is harder to read than a letter the page before used).
+    before; when every plain letter is living or resting, the first primed letter free
+    (``A'``): a letter the page just turned used for another point misleads more than a
+    prime (the train's chimney guides: E and H named other points on consecutive pages).
 
     Args:
         steps: each step's sub-steps, in order.
@@ -198,8 +200,6 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             # busy: held by a living point, or resting (it named another point in the
             # previous REST steps, whose page the reader has just turned)
             busy = {x for end, x in held if end >= k - REST}
-            if busy.issuperset(ALPHABET):  # no plain letter rests enough: a resting one
-                busy = {x for end, x in held if end >= k}  # before a primed one
             free = [x for x in ALPHABET if x not in busy]
             if free:  # the letter free longest: one never used first, in alphabetical order
                 ended = {x: end for end, x in held}  # each letter's last point's last step

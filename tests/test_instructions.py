@@ -135,14 +135,17 @@ def test_a_letter_names_a_second_point_only_after_the_alphabet_is_used():
     assert names[24:27] == ["A", "B", "C"]
 
 
-def test_a_resting_letter_is_used_again_before_a_primed_one():
+def test_a_primed_letter_comes_before_one_the_page_just_turned_used():
+    """The train's chimney guides named E and H as other points on consecutive pages; a
+    primed letter is used instead of a resting one."""
     p = [(float(i), 0.0, 0.0) for i in range(60)]
     first = [spec("f", lines=Many(tuple(Pts((p[i],)) for i in range(20))))]   # A .. V
     second = [spec("g", lines=Many(tuple(Pts((p[i],)) for i in range(20, 30))))]
     out = letter_steps([first, second], 1e-9, _render, " ".join)
     letters = out[1][0][0].split("=")[1].split()
-    # W X Y Z are neither living nor resting; then the 20 resting ones, from A, never A'
-    assert letters[:4] == ["W", "X", "Y", "Z"] and letters[4:] == list("ABCDEF")
+    # W X Y Z are neither living nor resting; then primed ones, never a letter of page one
+    assert letters[:4] == ["W", "X", "Y", "Z"] and letters[4:] == ["A'", "B'", "C'", "D'",
+                                                                    "E'", "F'"]
 
 
 def test_points_within_tolerance_share_a_letter():
