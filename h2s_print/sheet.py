@@ -580,6 +580,11 @@ TICK_CHORD = 0.6
 TICK_MM = 4.0
 TICK_PT = 6.0
 TICK_CORNER_MM = 20.0
+#: ... at most this many pairs a vanishing point, ...
+TICK_PAIRS_KEPT = 4
+#: ... and from every other tick on the frame (a read-through found the camera's L1 and R5
+#: ticks 3 mm apart, each name beside the other's tick)
+TICK_GAP_MM = 6.0
 
 
 def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
@@ -608,33 +613,49 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
                (frame[0], frame[3])]
     out: list[Item] = []
     named: list[str] = []
+    marks: list[tuple[float, float, float, float]] = []  # the ticks so far, as segments
+    # Per vanishing point off the sheet: the lines to try, in order.  The evenly spread lines
+    # come middle first, then spreading out; where fewer than two pairs fit, the lines
+    # half-way between them too (the desk's point below: each of the first seven had a tick
+    # on that point's own label or arrow).  At most TICK_PAIRS_KEPT pairs a point, taken in
+    # turns, one a point a round: enough to aim by, and room for every point's ticks (the
+    # camera's high-right sheet: seven pairs of the side points left none for the one below).
+    far: list[tuple[Any, Pt, str, list[float], list[float], float]] = []
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
         if vp.at_infinity or vp.xy_mm is None:
             continue
         v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
         if frame[0] <= v[0] <= frame[2] and frame[1] <= v[1] <= frame[3]:
             continue  # on the sheet: a ruler reaches it
-        side = vp_side(vp, centre)
-        prefix = _t(f"sheet.tick_names.{side}")
         lo, hi = _seen_span(np.asarray(v), np.asarray(corners, dtype=float))
-        reach = max(math.dist(v, c) for c in corners)
-        n = 0
-        kept: list[tuple[float, list[tuple[Pt, Pt, Text]]]] = []  # (angle, ticks and names)
-        # the evenly spread lines first; where fewer than two pairs fit, the lines half-way
-        # between them too (the desk's vanishing point below: every one of the first seven
-        # had a tick on the label or the arrow of that very point)
-        for fractions in ([(k + 0.5) / TICK_PAIRS for k in range(TICK_PAIRS)],
-                          [k / TICK_PAIRS for k in range(1, TICK_PAIRS)]):
-            if len(kept) >= 2:
-                break
-            for f in fractions:
-                a = lo + f * (hi - lo)
-                made = _tick_pair(v, a, reach, frame, corners, centre, taken, lines, prefix)
-                if made is not None:
-                    kept.append((a, made))
+        first = [lo + (k + 0.5) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS)]
+        between = [lo + (k + 1) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS - 1)]
+        far.append((vp, v, _t(f"sheet.tick_names.{vp_side(vp, centre)}"), first, between,
+                    max(math.dist(v, c) for c in corners)))
+    kept: dict[int, list[tuple[float, list[tuple[Pt, Pt, Text]]]]] = {
+        vp.axis: [] for vp, *_ in far}
+    moved = True
+    while moved:
+        moved = False
+        for vp, v, prefix, first, between, reach in far:
+            mine = kept[vp.axis]
+            if len(mine) >= TICK_PAIRS_KEPT:
+                continue
+            while first or (len(mine) < 2 and between):
+                a = (first or between).pop(0)
+                made = _tick_pair(v, a, reach, frame, corners, centre, taken,
+                                  np.vstack([lines, np.asarray(marks).reshape(-1, 4)]), prefix)
+                # a tick keeps TICK_GAP_MM from every other, so no name sits by the wrong one
+                if made is not None and all(math.dist(p, (m[0], m[1])) >= TICK_GAP_MM
+                                            for p, _, _ in made for m in marks):
+                    mine.append((a, made))
                     taken += [tx.box_mm for _, _, tx in made]
-        kept.sort(key=lambda am: am[0])  # numbered along the frame
-        for _, made in kept:
+                    marks += [(p[0], p[1], q[0], q[1]) for p, q, _ in made]
+                    moved = True
+                    break
+    for vp, _, prefix, *_ in far:
+        n = 0
+        for _, made in sorted(kept[vp.axis], key=lambda am: am[0]):  # numbered along the frame
             n += 1
             for p, q, tx in made:
                 out.append(Polyline((p, q), "black", 0.3, (), False, "vp_tick"))
@@ -647,6 +668,22 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
         line = _t("sheet.ticks", names=", ".join(named))
         out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.5 * w, 7),
                         "Helvetica", "end", "black", "vp_tick_legend"))
+    return out
+
+
+def _spread(n: int) -> list[int]:
+    """``0 .. n-1`` middle first, then the halves' middles, and so on: the first few spread
+    over the range (7: 3, 1, 5, 0, 2, 4, 6)."""
+    out: list[int] = []
+    spans = [(0, n)]
+    while spans:
+        nxt = []
+        for lo, hi in spans:
+            if lo < hi:
+                mid = (lo + hi - 1) // 2
+                out.append(mid)
+                nxt += [(lo, mid), (mid + 1, hi)]
+        spans = nxt
     return out
 
 
