@@ -903,6 +903,17 @@ def test_sheet_ticks_of_one_name_lie_on_a_line_through_their_vanishing_point(exa
         # had none: each of the first seven lines had a tick on that point's own label)
         if legend:
             assert marked == set(range(len(far))), (name, view)
+        # ticks keep apart, and no name lies on another's tick (the camera's L1 and R5 were
+        # 3 mm apart, each name beside the other's tick)
+        segs = [it for it in items if isinstance(it, L.Polyline) and it.role == "vp_tick"]
+        ends = [np.asarray(it.points_mm[0]) for it in segs]
+        for i, a in enumerate(ends):
+            assert all(np.linalg.norm(a - b) >= S.TICK_GAP_MM - 1e-9 for b in ends[i + 1:]), \
+                (name, view)
+        names = [it for it in items if isinstance(it, L.Text) and it.role == "vp_tick_label"]
+        for k, tx in enumerate(names):
+            others = L._segments([sg for j, sg in enumerate(segs) if j != k])
+            assert not L._crossings(others, tx.box_mm), (name, view, tx.string)
     assert pairs
 
 
