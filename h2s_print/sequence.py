@@ -2269,20 +2269,28 @@ class _Context:
     def round_sides(self, d: _Draft, lead: Mapping[str, str]) -> _Draft:
         """An outline draft with the sentence joining its round parts' ellipses: the two
         lines touching both, which no scaffold line gives (the read-through: "trace" did not
-        say to draw them); one sentence for the step's round parts, after their ellipses,
-        before the tracing."""
+        say to draw them); one sentence for the step's cylinders, after their ellipses,
+        before the tracing, and one for its tapered round parts, whose sides follow the
+        picture (a read-through: the mixer's bowl curves, "two straight lines" did not)."""
         rounds = [q for q in d.group if _round(self.plan.primitive(q))
-                  and self.plan.primitive(q).type in ("cylinder", "frustum")]
-        if not rounds:
+                  and self.plan.primitive(q).type == "cylinder"]
+        tapers = [q for q in d.group if _round(self.plan.primitive(q))
+                  and self.plan.primitive(q).type == "frustum"]
+        joins: list[Spec] = []
+        if rounds:
+            leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
+            if len(leads) == 1 and len(rounds) > 1:  # one part and its copies
+                joins.append(spec("round_sides_copies", the_parents=_the(self.say(leads[0]))))
+            else:
+                joins.append(spec("round_sides_many" if len(rounds) > 1 else "round_sides",
+                                  the_parents=_join([_the(self.say(q)) for q in rounds])))
+        if tapers:  # a bowl's sides curve: "two straight lines" contradicted its picture
+            joins.append(spec("round_sides_taper",
+                              the_parents=_join([_the(self.say(q)) for q in tapers])))
+        if not joins:
             return d
-        leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
-        if len(leads) == 1 and len(rounds) > 1:  # one part and its copies
-            join = spec("round_sides_copies", the_parents=_the(self.say(leads[0])))
-        else:
-            join = spec("round_sides_many" if len(rounds) > 1 else "round_sides",
-                        the_parents=_join([_the(self.say(q)) for q in rounds]))
         at = next(i for i, x in enumerate(d.specs) if x.key.startswith("contour"))
-        return replace(d, specs=d.specs[:at] + (join,) + d.specs[at:])
+        return replace(d, specs=d.specs[:at] + tuple(joins) + d.specs[at:])
 
     def basic(self) -> tuple[_Draft, ...]:
         if self._basic is None:

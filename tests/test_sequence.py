@@ -528,15 +528,17 @@ def test_a_letter_is_not_given_again_while_its_point_is_still_drawn(examples):
 
 
 def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
-    """A cylinder's or round frustum's outline is its ellipses and two straight lines touching
-    both, which no scaffold line gives: its outline step says to draw them, in one sentence
-    for the step's round parts (a part and its copies: "and of each copy"); other parts are
-    not named there."""
+    """A cylinder's outline is its ellipses and two straight lines touching both, which no
+    scaffold line gives: its outline step says to draw them, in one sentence for the step's
+    cylinders (a part and its copies: "and of each copy"); a round tapered part's ellipses
+    are joined along the sides the picture shows, in a sentence of their own that never says
+    "straight" (a read-through: the mixer's bowl curves); other parts are not named there."""
     from h2s_print.templates import lookup
 
-    one = lookup("steps", "substep.round_sides").split("{")[0]  # "Join "
+    one = lookup("steps", "substep.round_sides").split("{")[0]  # "Join the two ellipses of "
     many = lookup("steps", "substep.round_sides_many").split("{")[0]
-    checked = 0
+    taper = lookup("steps", "substep.round_sides_taper").split("{")[0]
+    checked = tapered = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
             continue
@@ -547,16 +549,23 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
                 continue
             parts = list(dict.fromkeys(s.part for s in st.strokes))
             said = [x for x in st.substeps if x.startswith(one) or x.startswith(many)]
-            round_ = [p for p in parts if plan.primitive(p).type in ("cylinder", "frustum")
+            round_ = [p for p in parts if plan.primitive(p).type == "cylinder"
                       and seq._round(plan.primitive(p))]
             assert len(said) == (1 if round_ else 0), (name, st.substeps)
+            cones = [p for p in parts if plan.primitive(p).type == "frustum"
+                     and seq._round(plan.primitive(p))]
+            along = [x for x in st.substeps if x.startswith(taper)]
+            assert len(along) == (1 if cones else 0), (name, st.substeps)
+            for x in along:
+                assert all(ctx.say(p) in x for p in cones) and "straight" not in x
+                tapered += 1
             named = [p for p in round_ if ctx.say(p) in " ".join(said)]
             # all named, or the first of identical parts "and each copy"
             assert sorted(named) == sorted(round_) or (len(named) == 1 and "each copy" in said[0]), \
                 (name, st.substeps)
             assert all(ctx.say(p) not in " ".join(said) for p in parts if p not in round_)
             checked += len(named)
-    assert checked
+    assert checked and tapered
 
 
 def test_units_touch_when_they_share_a_line_end_or_a_result_end():
