@@ -201,7 +201,7 @@ def _easy_ratio(ratio: float) -> str | None:
     value, name = min(SIZE_RATIOS, key=lambda vn: abs(ratio / vn[0] - 1.0))
     return name if abs(ratio / value - 1.0) <= SIZE_TOLERANCE else None
 #: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
-_CITES = ("reuse", "edge", "edge_two")
+_CITES = ("reuse", "reuse_for", "edge", "edge_two")
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
 #: fraction (and their primitive types and triangle counts are equal): drawn as one step.
 REPEAT_TOL = 0.02
@@ -560,21 +560,33 @@ def _sheet_guides(lines: FirstBoxLines | None, camera: Camera) -> tuple[Guide, .
     return tuple(out)
 
 
-def _citations(groups: Sequence[Sequence[_Unit]], step: int) -> list[Spec]:
-    """"Use KL from step 2.": every line the units of ``groups`` (the guides steps numbered
-    from ``step``) draw, cited with the step that drew it (an earlier one for a line reused)."""
+def _citations(groups: Sequence[Sequence[_Unit]], step: int,
+               side_of: Callable[[Any], str] | None = None) -> list[Spec]:
+    """"Use KL from step 2 for its back.": every line the units of ``groups`` (the guides
+    steps numbered from ``step``) draw, cited with the step that drew it (an earlier one for a
+    line reused) and, with ``side_of`` (an anchor's side of the part, "back", "middle (front
+    to back)"), what the lines place (a read-through: "Use MP from step 8" did not say MP is
+    the flash's back, and a reader who had just centred the lens on PQ centred the flash)."""
     cited: dict[int, list[Pts]] = {}
+    sides: dict[int, list[str]] = {}
     carried: list[int] = []
     moved = _carried(groups)
     for k, g in enumerate(groups):
         for u in g:
             for i, r in enumerate(u.results):
                 if tuple(r) not in moved:
-                    cited.setdefault(u.origin.get(i, step + k), []).append(Pts(r))
+                    n = u.origin.get(i, step + k)
+                    cited.setdefault(n, []).append(Pts(r))
+                    if side_of is not None:
+                        sides.setdefault(n, []).extend(side_of(a) for a in u.anchors)
             if any(x.key in _CARRIES for x in u.specs):
                 carried.append(step + k)
-    return ([spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
-            + [spec("reuse_carried", step=n) for n in carried])
+    out = []
+    for n, runs in sorted(cited.items()):
+        said = list(dict.fromkeys(sides.get(n, ())))
+        out.append(spec("reuse_for", line=Many(tuple(runs)), step=n, sides=_join(said))
+                   if said else spec("reuse", line=Many(tuple(runs)), step=n))
+    return out + [spec("reuse_carried", step=n) for n in carried]
 
 
 def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
@@ -1390,6 +1402,9 @@ class _Context:
                 if len(left) < len(runs):
                     f["line"] = left[0] if len(left) == 1 else Many(left)
                     key = "edge" if s.key == "edge_two" and len(left) == 1 else s.key
+                    if key == "reuse_for":  # the sides were said of all its lines together
+                        key = "reuse"
+                        f.pop("sides")
                     s = spec(key, s.same, s.pair, **f)
             out.append(s)
         return out
@@ -1625,9 +1640,11 @@ class _Context:
         here = step + len(groups) - 1
         before = [u for g in groups[:-1] for u in g]
         moved = _carried(groups[:-1])
-        mine = _citations(groups[:-1], step) + [
-            x for u in last for x in u.specs if not (x.same and x.same in said)
-            and not (x.key == "reuse" and tuple(dict(x.fields)["line"].points) in moved)]
+        own = [x for u in last for x in u.specs if not (x.same and x.same in said)
+               and not (x.key == "reuse" and tuple(dict(x.fields)["line"].points) in moved)]
+        mine = _citations(groups[:-1], step, self.anchor_side) + own
+        if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
+            mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
         subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
         self.record(last, here, described)
         # the box is drawn on the carried lines: carried in a guides step, they stay (the
@@ -1687,6 +1704,10 @@ class _Context:
             steps.append(at[0])
         return spec(f"{s.key}_reuse", s.same, s.pair, step=max(steps), **f)
 
+    def anchor_side(self, anchor: Any) -> str:
+        """The side of the part an anchor places ("back", "middle (front to back)")."""
+        return self.words.side(anchor.axis, anchor.end)
+
     def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int,
              guides_head: Callable[[list["_Unit"]], str]) -> list[list["_Unit"]]:
         """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
@@ -1701,11 +1722,8 @@ class _Context:
 
         if not units or fits(units, closing, set()):
             return [units]
-        cited: dict[int, list[Pts]] = {}  # as the placing step will cite them (worst case)
-        for u in units:
-            for i, r in enumerate(u.results):
-                cited.setdefault(u.origin.get(i, step), []).append(Pts(r))
-        reuse = [spec("reuse", line=Many(tuple(runs)), step=n) for n, runs in sorted(cited.items())]
+        reuse = _citations([units], step, self.anchor_side)  # as the placing step will cite
+        # them (worst case)
         # Edges extended and guides reused need no room: they stay with the placing step.
         tail = [u for u in units if not u.room]
         rest = [u for u in units if u.room]
@@ -1747,7 +1765,8 @@ class _Context:
         groups = grouped(rest)
         # the estimate above cites every line as one step's; the guides steps now known, the
         # placing step cites each with its own step ("Use UV from step 5. Use HJ from step 6.")
-        while movable and not fits(tail, _citations(groups, step) + closing, said_by(groups)):
+        while movable and not fits(tail, _citations(groups, step, self.anchor_side) + closing,
+                                   said_by(groups)):
             u = movable.pop(0)
             tail.remove(u)
             rest.append(u)

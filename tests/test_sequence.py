@@ -491,7 +491,18 @@ def test_lines_carried_in_a_guides_step_stay_until_the_part_is_drawn_on_them(exa
                 continue
             placing = next(st for st in vp.steps[i + 1:]
                            if st.part == s.part and st.kind == "primitive")
-            carried = [g.id for g in s.guides if g.role == "vanishing" and g.status == "new"]
+            # the carrying lines end on the part's box (a guides step may also draw the box
+            # around a tapered parent, whose lines are vanishing lines too)
+            lo, hi = (np.asarray(x, dtype=float) for x in plan.chosen()[s.part].box)
+            tol = 1e-6 * float(np.linalg.norm(hi - lo))
+
+            def on_box(p):
+                p = np.asarray(p, dtype=float)
+                inside = np.all(p >= lo - tol) and np.all(p <= hi + tol)
+                return inside and (np.any(np.abs(p - lo) <= tol) or np.any(np.abs(p - hi) <= tol))
+
+            carried = [g.id for g in s.guides if g.role == "vanishing" and g.status == "new"
+                       and (on_box(g.from3d) or on_box(g.to3d))]
             assert carried
             shown = {g.id for g in placing.guides}
             assert all(g in shown for g in carried), (name, vp.name, s.index)
@@ -1617,3 +1628,40 @@ def test_a_tutorial_stays_within_its_steps_per_shape(examples):
                     classes.append(p)
             vp = views[(view.name, "novice")]
             assert len(vp.steps) <= 2.5 * len(classes) + 3, (name, view.name, len(vp.steps))
+
+
+def test_a_cited_line_says_the_side_it_places_and_lies_in_that_sides_plane(examples):
+    """"Use MP from step 8 for its back.": a line cited from a guides step says which side of
+    the part it places (a read-through: a reader who had just centred the lens on PQ centred
+    the flash on MP, its back), and that is true: each named line lies in the plane of one
+    of the sides named, checked on the lettered points' 3D positions."""
+    from h2s_print.templates import lookup
+
+    head = lookup("steps", "substep.reuse_for").split("{")[0]  # "Use "
+    sides = {v: k for k, v in lookup("steps", "sides").items()}  # "back" -> "y_hi"
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            for step in views[(view.name, "novice")].steps:
+                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in step.labels}
+                lo, hi = (np.asarray(x, dtype=float) for x in chosen[step.part].box)
+                tol = 1e-6 * float(np.linalg.norm(hi - lo))
+                for x in step.substeps:
+                    if not (x.startswith(head) and " for its " in x):
+                        continue
+                    said = [s.strip() for s in re.split(r",| and ", x.split(" for its ")[1][:-1])
+                            if s.strip()]
+                    planes = []
+                    for word in said:
+                        axis, end = sides[word].split("_")
+                        a = "xyz".index(axis)
+                        c = {"lo": lo[a], "hi": hi[a], "mid": 0.5 * (lo[a] + hi[a])}[end]
+                        planes.append((a, c))
+                    lines = re.findall(LINE, x.split(" from step ")[0])
+                    for line in lines:
+                        p, q = (at[n] for n in re.findall(r"[A-Z]'*", line))
+                        assert any(abs(p[a] - c) <= tol and abs(q[a] - c) <= tol
+                                   for a, c in planes), (name, view.name, step.index, x)
+                        checked += 1
+    assert checked
