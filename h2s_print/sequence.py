@@ -582,10 +582,10 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
             if any(x.key in _CARRIES for x in u.specs):
                 carried.append(step + k)
     out = []
-    for n, runs in sorted(cited.items()):
+    for n, lines in sorted(cited.items()):
         said = list(dict.fromkeys(sides.get(n, ())))
-        out.append(spec("reuse_for", line=Many(tuple(runs)), step=n, sides=_join(said))
-                   if said else spec("reuse", line=Many(tuple(runs)), step=n))
+        out.append(spec("reuse_for", line=Many(tuple(lines)), step=n, sides=_join(said))
+                   if said else spec("reuse", line=Many(tuple(lines)), step=n))
     return out + [spec("reuse_carried", step=n) for n in carried]
 
 
