@@ -844,8 +844,8 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
 
 
 def _merged_outlines(prev: _Draft, d: _Draft, say: Any) -> _Draft:
-    """Two outline drafts as one step: small ellipses first (in one sentence for both
-    parts' ellipses sketched by eye), then one tracing sub-step; named after all its parts."""
+    """Two outline drafts as one step: small ellipses first (one sentence for all the parts'
+    ellipses sketched by eye), then one tracing sub-step; named after all its parts."""
     members = prev.group + d.group
     both = list(prev.specs) + list(d.specs)
     small = [x for x in both if x.key in ("ellipse_by_eye_part", "ellipse_by_eye_parts")]

@@ -1587,27 +1587,34 @@ def test_a_part_is_centred_on_a_line_that_reaches_it(examples):
 
     centre = lookup("steps", "substep.centred").split("{")[0]  # "Centre "
     checked = 0
+    for name, step, s, at, (lo, hi) in _novice_substeps(examples):
+        if not s.startswith(centre) or " on " not in s:
+            continue
+        for line in re.findall(LINE, s.split(" on ")[-1]):
+            p, q = (at[x] for x in re.findall(r"[A-Z]'*", line))
+            pts = p + np.linspace(0.0, 1.0, 401)[:, None] * (q - p)
+            gap = np.linalg.norm(pts - np.clip(pts, lo, hi), axis=1).min()
+            assert gap <= 1e-6 * np.linalg.norm(hi - lo), (name, step.index, s)
+            # the line runs in the plane of the part's middle across one axis
+            assert any(abs(p[a] - q[a]) <= 1e-9 * np.linalg.norm(hi - lo)
+                       and abs(p[a] - 0.5 * (lo[a] + hi[a])) <= 1e-6 * np.linalg.norm(hi - lo)
+                       for a in range(3)), (name, step.index, s)
+            checked += 1
+    assert checked
+
+
+def _novice_substeps(examples):
+    """(model, step, sub-step, its step's lettered points in 3D by letter, the step's part's
+    selected box as arrays) over every novice view of the examples."""
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
         for view in t.views:
             for step in views[(view.name, "novice")].steps:
                 at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in step.labels}
+                box = tuple(np.asarray(x, dtype=float) for x in chosen[step.part].box) \
+                    if step.part in chosen else None
                 for s in step.substeps:
-                    if not s.startswith(centre) or " on " not in s:
-                        continue
-                    for line in re.findall(LINE, s.split(" on ")[-1]):
-                        p, q = (at[x] for x in re.findall(r"[A-Z]'*", line))
-                        lo, hi = (np.asarray(x, dtype=float) for x in chosen[step.part].box)
-                        pts = p + np.linspace(0.0, 1.0, 401)[:, None] * (q - p)
-                        gap = np.linalg.norm(pts - np.clip(pts, lo, hi), axis=1).min()
-                        assert gap <= 1e-6 * np.linalg.norm(hi - lo), (name, step.index, s)
-                        # the line runs in the plane of the part's middle across one axis
-                        assert any(abs(p[a] - q[a]) <= 1e-9 * np.linalg.norm(hi - lo)
-                                   and abs(p[a] - 0.5 * (lo[a] + hi[a]))
-                                   <= 1e-6 * np.linalg.norm(hi - lo) for a in range(3)), \
-                            (name, step.index, s)
-                        checked += 1
-    assert checked
+                    yield name, step, s, at, box
 
 
 def test_a_tutorial_stays_within_its_steps_per_shape(examples):
@@ -1640,28 +1647,20 @@ def test_a_cited_line_says_the_side_it_places_and_lies_in_that_sides_plane(examp
     head = lookup("steps", "substep.reuse_for").split("{")[0]  # "Use "
     sides = {v: k for k, v in lookup("steps", "sides").items()}  # "back" -> "y_hi"
     checked = 0
-    for name, (t, plan, views) in examples.items():
-        chosen = plan.chosen()
-        for view in t.views:
-            for step in views[(view.name, "novice")].steps:
-                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in step.labels}
-                lo, hi = (np.asarray(x, dtype=float) for x in chosen[step.part].box)
-                tol = 1e-6 * float(np.linalg.norm(hi - lo))
-                for x in step.substeps:
-                    if not (x.startswith(head) and " for its " in x):
-                        continue
-                    said = [s.strip() for s in re.split(r",| and ", x.split(" for its ")[1][:-1])
-                            if s.strip()]
-                    planes = []
-                    for word in said:
-                        axis, end = sides[word].split("_")
-                        a = "xyz".index(axis)
-                        c = {"lo": lo[a], "hi": hi[a], "mid": 0.5 * (lo[a] + hi[a])}[end]
-                        planes.append((a, c))
-                    lines = re.findall(LINE, x.split(" from step ")[0])
-                    for line in lines:
-                        p, q = (at[n] for n in re.findall(r"[A-Z]'*", line))
-                        assert any(abs(p[a] - c) <= tol and abs(q[a] - c) <= tol
-                                   for a, c in planes), (name, view.name, step.index, x)
-                        checked += 1
+    for name, step, x, at, (lo, hi) in _novice_substeps(examples):
+        if not (x.startswith(head) and " for its " in x):
+            continue
+        tol = 1e-6 * float(np.linalg.norm(hi - lo))
+        said = [w.strip() for w in re.split(r",| and ", x.split(" for its ")[1][:-1])
+                if w.strip()]
+        planes = []
+        for word in said:
+            axis, end = sides[word].split("_")
+            a = "xyz".index(axis)
+            planes.append((a, {"lo": lo[a], "hi": hi[a], "mid": 0.5 * (lo[a] + hi[a])}[end]))
+        for line in re.findall(LINE, x.split(" from step ")[0]):
+            p, q = (at[n] for n in re.findall(r"[A-Z]'*", line))
+            assert any(abs(p[a] - c) <= tol and abs(q[a] - c) <= tol for a, c in planes), \
+                (name, step.index, x)
+            checked += 1
     assert checked
