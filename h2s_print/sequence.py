@@ -156,6 +156,7 @@ Every ``*_mm`` coordinate is ``camera.project`` of its 3D point.
 from __future__ import annotations
 
 import logging
+import re
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
@@ -948,6 +949,12 @@ def _moving_axis(line: _Line) -> int:
     return int(np.argmax(d))
 
 
+def _stem(name: str) -> str | None:
+    """A name without its trailing number ("wheel 3" -> "wheel"), or None when it has none."""
+    m = re.fullmatch(r"(.*\D)\s*\d+", name)
+    return m.group(1).strip() if m else None
+
+
 def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
     """Is the point ``p`` on the infinite line through ``a`` and ``b`` (within ``tol``)?"""
     a_, d = np.asarray(a, dtype=float), np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
@@ -1369,9 +1376,13 @@ class _Context:
         """What the texts call ``part`` (:func:`h2s_print.names.display_names`)."""
         return self.names[part].label
 
-    def part_labels(self, part: str, box: Box) -> tuple[tuple[str, Vec3], ...]:
-        """The short name drawn next to a part whose own name is not readable (else none)."""
-        if self.names[part].readable:
+    def part_labels(self, part: str, box: Box, numbered: bool = False
+                    ) -> tuple[tuple[str, Vec3], ...]:
+        """The short name drawn next to a part whose own name is not readable, or (with
+        ``numbered``) whose step draws another part named alike but for its number: the
+        train's "wheel 1, wheel 3, wheel 5 and wheel 7" left a reader asking which was which
+        (else none)."""
+        if self.names[part].readable and not numbered:
             return ()
         return ((self.names[part].label, _vec(np.mean(np.asarray(box, dtype=float), axis=0))),)
 
@@ -2409,15 +2420,17 @@ class _Context:
                 guides = printed + guides
                 alive = tuple(g.id for g in printed) + alive
             box = None
-            if d.part is not None and d.kind in ("primitive", "basic", "contour"):
+            if d.part is not None and d.kind in ("primitive", "basic", "contour", "ellipse"):
                 box = (self.plan.primitive(d.part).box if level == "basic"
                        else self.chosen[d.part].box)
             members = list(dict.fromkeys([d.part] + [st.part for st in d.strokes])) \
                 if box is not None else []
-            named = tuple(self.label(n, p, "part") for q in members
+            stems = [_stem(self.say(q)) for q in members]
+            named = tuple(self.label(n, p, "part") for q, stem in zip(members, stems)
                           for n, p in self.part_labels(q, box if q == d.part else (
                               self.plan.primitive(q).box if level == "basic"
-                              else self.chosen[q].box)))
+                              else self.chosen[q].box), stem is not None
+                              and stems.count(stem) > 1))
             if level == "master":
                 subs: tuple[str, ...] = ()
                 labels: tuple[Label, ...] = named

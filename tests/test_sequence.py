@@ -1664,3 +1664,25 @@ def test_a_cited_line_says_the_side_it_places_and_lies_in_that_sides_plane(examp
                 (name, step.index, x)
             checked += 1
     assert checked
+
+
+def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples):
+    """A step that draws "wheel 1, wheel 3, wheel 5 and wheel 7" labels each on its picture
+    (a read-through asked which wheel was which), at its box's centre."""
+    from h2s_print import sequence as seq
+
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            ctx = seq._context(plan, view, t.paper, t.sequence)
+            for step in views[(view.name, "novice")].steps:
+                parts = list(dict.fromkeys(st.part for st in step.strokes))
+                stems = {q: seq._stem(ctx.say(q)) for q in parts}
+                shown = {lb.name: np.asarray(lb.at3d) for lb in step.labels if lb.kind == "part"}
+                for q, stem in stems.items():
+                    if stem is not None and list(stems.values()).count(stem) > 1:
+                        centre = np.mean(np.asarray(chosen[q].box, dtype=float), axis=0)
+                        assert np.allclose(shown[ctx.say(q)], centre), (name, step.index, q)
+                        checked += 1
+    assert checked
