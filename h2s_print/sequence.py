@@ -1548,7 +1548,11 @@ class _Context:
                 unit.specs.append(spec("box_around", parent=self.say(ppart)) if seen is None
                                   else spec("box_reuse", parent=self.say(ppart), step=seen))
             a, b = con.result.start, con.result.end
-            old = [n for p, q, n in earlier if _same_segment(a, b, p, q, self.tol)]
+            # drawn before, as a result or as any construction line (the train's boiler sits
+            # on FG, the cab's half line: its guides step only said "Use diagonals AC and DB
+            # from step 3 ... Use FG from step 3", drawing nothing)
+            old = [n for p, q, n in earlier if _same_segment(a, b, p, q, self.tol)] or sorted(
+                n for p, q, n in self._drawn if n < step and _same_segment(a, b, p, q, self.tol))
             twice = any(_same_segment(a, b, p, q, self.tol)
                         for u in units.values() for p, q in u.results)
             if twice:  # the same line from another face of the parent: said once

@@ -1686,3 +1686,18 @@ def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples)
                         assert np.allclose(shown[ctx.say(q)], centre), (name, step.index, q)
                         checked += 1
     assert checked
+
+
+def test_a_guides_step_draws_something_new(examples):
+    """A guides step draws at least one new line: the train's boiler had one that only said
+    "Use diagonals AC and DB from step 3 ... Use FG from step 3" (FG, the cab's half line,
+    is where the boiler is centred), which a read-through found had nothing to draw."""
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        for st in vp.steps:
+            if st.kind == "guides":
+                assert any(g.status == "new" for g in st.guides), (name, vp.name, st.index)
+                checked += 1
+    assert checked
