@@ -146,6 +146,13 @@ def base_words(name: str) -> str | None:
     return " ".join(words)
 
 
+def stem(label: str) -> str | None:
+    """A label without its trailing number (``"wheel 3"`` -> ``"wheel"``), or None when it has
+    none: parts named alike but for their number are labelled on their steps' pictures."""
+    m = re.fullmatch(r"(.*\D)\s*\d+", label)
+    return m.group(1).strip() if m else None
+
+
 def natural_key(name: str) -> tuple:
     """Sort key reading digit runs as numbers (``2_knob`` before ``10_base``)."""
     return tuple((0, int(t), "") if t.isdigit() else (1, 0, t.casefold())

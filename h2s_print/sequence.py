@@ -156,7 +156,6 @@ Every ``*_mm`` coordinate is ``camera.project`` of its 3D point.
 from __future__ import annotations
 
 import logging
-import re
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Iterable, Mapping, Sequence
 
@@ -168,7 +167,7 @@ from .candidates import Anchor, relation_holds
 from .constructions import Face, align, construct, ellipse_on_face, equal_spacing
 from .contours import adjust_part, final_contours, own_contours
 from .errors import SelectionError
-from .names import PartName, display_names, natural_key
+from .names import PartName, display_names, natural_key, stem
 from .occlude import (Solid, box_solid, cylinder_solid, hidden, outward_normals, polyhedron,
                       runs)
 from .instructions import (Many, Pts, Spec, construction_specs, letter_steps, line_runs,
@@ -947,12 +946,6 @@ def _moving_axis(line: _Line) -> int:
     """The model axis a carrying line runs along."""
     d = np.abs(np.asarray(line.end, dtype=float) - np.asarray(line.start, dtype=float))
     return int(np.argmax(d))
-
-
-def _stem(name: str) -> str | None:
-    """A name without its trailing number ("wheel 3" -> "wheel"), or None when it has none."""
-    m = re.fullmatch(r"(.*\D)\s*\d+", name)
-    return m.group(1).strip() if m else None
 
 
 def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
@@ -2429,12 +2422,12 @@ class _Context:
                        else self.chosen[d.part].box)
             members = list(dict.fromkeys([d.part] + [st.part for st in d.strokes])) \
                 if box is not None else []
-            stems = [_stem(self.say(q)) for q in members]
-            named = tuple(self.label(n, p, "part") for q, stem in zip(members, stems)
+            stems = [stem(self.say(q)) for q in members]
+            named = tuple(self.label(n, p, "part") for q, base in zip(members, stems)
                           for n, p in self.part_labels(q, box if q == d.part else (
                               self.plan.primitive(q).box if level == "basic"
-                              else self.chosen[q].box), stem is not None
-                              and stems.count(stem) > 1))
+                              else self.chosen[q].box), base is not None
+                              and stems.count(base) > 1))
             if level == "master":
                 subs: tuple[str, ...] = ()
                 labels: tuple[Label, ...] = named

@@ -1670,6 +1670,7 @@ def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples)
     """A step that draws "wheel 1, wheel 3, wheel 5 and wheel 7" labels each on its picture
     (a read-through asked which wheel was which), at its box's centre."""
     from h2s_print import sequence as seq
+    from h2s_print.names import stem
 
     checked = 0
     for name, (t, plan, views) in examples.items():
@@ -1678,10 +1679,10 @@ def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples)
             ctx = seq._context(plan, view, t.paper, t.sequence)
             for step in views[(view.name, "novice")].steps:
                 parts = list(dict.fromkeys(st.part for st in step.strokes))
-                stems = {q: seq._stem(ctx.say(q)) for q in parts}
+                stems = {q: stem(ctx.say(q)) for q in parts}
                 shown = {lb.name: np.asarray(lb.at3d) for lb in step.labels if lb.kind == "part"}
-                for q, stem in stems.items():
-                    if stem is not None and list(stems.values()).count(stem) > 1:
+                for q, base in stems.items():
+                    if base is not None and list(stems.values()).count(base) > 1:
                         centre = np.mean(np.asarray(chosen[q].box, dtype=float), axis=0)
                         assert np.allclose(shown[ctx.say(q)], centre), (name, step.index, q)
                         checked += 1
