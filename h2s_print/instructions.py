@@ -193,6 +193,7 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                 last[i] = max(last[i], k)
     letter: dict[int, str] = {}
     held: list[tuple[int, str]] = []  # (last step, letter) of points lettered so far
+    ended: dict[str, int] = {}  # each letter's latest point's last step
     for k, order in enumerate(named):
         for i in order:
             if i in letter:
@@ -202,7 +203,6 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             busy = {x for end, x in held if end >= k - REST}
             free = [x for x in ALPHABET if x not in busy]
             if free:  # the letter free longest: one never used first, in alphabetical order
-                ended = {x: end for end, x in held}  # each letter's last point's last step
                 letter[i] = min(free, key=lambda x: (ended.get(x, -1), ALPHABET.index(x)))
             else:
                 n = len(ALPHABET)
@@ -210,6 +210,7 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                     n += 1
                 letter[i] = _letter(n)
             held.append((last[i], letter[i]))
+            ended[letter[i]] = last[i]
     out = []
     for specs, order in zip(steps, named):
         sentences = []
