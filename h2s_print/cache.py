@@ -85,17 +85,23 @@ def model_files(path: Path) -> list[tuple[str, Path]]:
 def _code_identity() -> dict[str, Any]:
     from importlib import metadata
 
-    package = Path(__file__).resolve().parent
-    h = hashlib.sha256()
-    for f in sorted(package.glob("*.py")):
-        h.update(f.name.encode() + b"\0" + f.read_bytes() + b"\0")
     libs = {}
     for name in ("numpy", "scipy", "trimesh", "pyscipopt"):
         try:
             libs[name] = metadata.version(name)
         except metadata.PackageNotFoundError:
             libs[name] = None
-    return {"h2s": __version__, "source": h.hexdigest(), "libs": libs}
+    return {"h2s": __version__, "source": source_hash(Path(__file__).resolve().parent),
+            "libs": libs}
+
+
+def source_hash(package: Path) -> str:
+    """A hash of every ``.py`` file under ``package``, subpackages included (the sequence
+    stage is one), by path and contents."""
+    h = hashlib.sha256()
+    for f in sorted(package.rglob("*.py")):
+        h.update(f.relative_to(package).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
 
 
 def plan_key(spec: ModelSpec, settings: SolverSettings) -> str | None:

@@ -117,3 +117,23 @@ def test_the_cache_ignores_an_entry_that_does_not_check_and_says_why(tmp_path, c
     assert "unusable cache entry ignored (selection: not a string)" in caplog.text
     assert cache.store_plan(tmp_path, KEY, camera_plan) is not None
     _same(camera_plan, cache.load_plan(tmp_path, KEY))
+
+
+def test_the_cache_key_sees_every_source_file_subpackages_included(tmp_path):
+    """An edited checkout never reads a stale plan: a change to a module in a subpackage (the
+    sequence stage is one) changes the source hash, as a top-level module's does."""
+    pkg = tmp_path / "pkg"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "a.py").write_text("A = 1\n")
+    (pkg / "sub" / "b.py").write_text("B = 1\n")
+    before = cache.source_hash(pkg)
+    (pkg / "sub" / "b.py").write_text("B = 2\n")
+    edited = cache.source_hash(pkg)
+    assert edited != before
+    (pkg / "a.py").write_text("A = 2\n")
+    assert cache.source_hash(pkg) != edited
+    # a file moved into a subpackage is a different source tree
+    (pkg / "sub" / "b.py").rename(pkg / "b.py")
+    moved = cache.source_hash(pkg)
+    (pkg / "b.py").rename(pkg / "sub" / "b.py")
+    assert cache.source_hash(pkg) != moved
