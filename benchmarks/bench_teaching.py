@@ -41,7 +41,7 @@ Columns (one row per model; "the selected candidate" of a part is ``plan.chosen(
   **select s**: SCIP's own solving time, ``plan.selection.seconds``.
 
 A second table, **instructions** (issue 11): *shapes*, the distinct part shapes (parts grouped
-by :meth:`h2s_print.sequence._Context.congruent` on their selected boxes); *steps* per view
+by :meth:`h2s_print.sequence.repeats._Repeats.congruent` on their selected boxes); *steps* per view
 (novice) against the *limit* 2.5 x shapes + 3; words per step (``text.split()``) of the novice
 plans and of every level built; *id names*, steps whose text contains the raw name of a part
 whose name :func:`h2s_print.names.display_names` does not keep; *minutes* as above.  Its last
@@ -57,7 +57,7 @@ parts fitted round (a cylinder, or a plane whose outline is round, ``detail["rou
 *ellipses*, the round parts drawn with ellipses per view summed, as ``constructed/by eye``
 (a part in an ellipse step not eyeballed, or a part whose ellipses, seen or dotted, are only
 sketched by eye: an eyeballed ellipse step or one joined to the outlines); *back-face*, anchors whose construction face
-(:func:`h2s_print.sequence._anchor_face`) the view shows from behind (the camera position on
+(:func:`h2s_print.sequence.geometry._anchor_face`) the view shows from behind (the camera position on
 the inner side of the face's plane), over all anchors on faces; *hidden drawn*, parts a
 primitive step draws that have no line in the finished drawing
 (:func:`h2s_print.sequence.final_strokes`), summed over views, and how many of those a drawn
@@ -87,16 +87,21 @@ from typing import Any
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from design_figures import HEADER as HEADER_DESIGN  # noqa: E402
+from design_figures import figures as design_figures
+from design_figures import row as design_row  # noqa: E402
+from design_figures import total as design_total
+
+from h2s_print import sequence as seq  # noqa: E402
 from h2s_print.candidates import DEGENERATE  # noqa: E402
 from h2s_print.config import TutorialConfig, load_tutorial  # noqa: E402
 from h2s_print.errors import H2SError  # noqa: E402
 from h2s_print.layout import estimate_minutes  # noqa: E402
+from h2s_print.names import display_names  # noqa: E402
 from h2s_print.order import part_size, start_part  # noqa: E402
 from h2s_print.plan import Plan, build_plan, plan_json  # noqa: E402
-from design_figures import HEADER as HEADER_DESIGN, figures as design_figures  # noqa: E402
-from design_figures import row as design_row, total as design_total  # noqa: E402
-from h2s_print import sequence as seq  # noqa: E402
-from h2s_print.names import display_names  # noqa: E402
+from h2s_print.sequence import context as seq_context  # noqa: E402
+from h2s_print.sequence import geometry as seq_geometry  # noqa: E402
 from h2s_print.sequence import sequence_views  # noqa: E402
 from h2s_print.types import ViewPlan  # noqa: E402
 
@@ -227,7 +232,7 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
     new = [sum(1 for g in s.guides if g.status == "new") for vp in novice for s in vp.steps]
     out_of_box = beyond(plan)
     # Instructions (issue 11)
-    ctx = seq._context(plan, tutorial.views[0], tutorial.paper, tutorial.sequence)
+    ctx = seq_context._context(plan, tutorial.views[0], tutorial.paper, tutorial.sequence)
     boxes = {p: c.box for p, c in chosen.items()}
     classes: list[list[str]] = []
     for p in sorted(boxes):
@@ -261,7 +266,7 @@ def measure(tutorial: TutorialConfig) -> dict[str, Any]:
             for a in cand.anchors:
                 if a.face_normal == a.axis:
                     continue
-                face = seq._anchor_face(a, by_id[a.parent].box, vp.camera)
+                face = seq_geometry._anchor_face(a, by_id[a.parent].box, vp.camera)
                 outward = 1.0 if face.end == "hi" else -1.0
                 on_faces += 1
                 back += (vp.camera.position[face.normal] - face.coord) * outward <= 0

@@ -60,14 +60,13 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from . import templates
+from . import fonts, templates
 from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct, ellipse_on_face
 from .errors import RenderError
-from . import fonts
 from .glyphs import ascii_font, printable, spelled
 from .project import make_camera, vp_side
-from .sequence import ALONG_MM
+from .sequence.geometry import ALONG_MM
 from .types import Guide, Label, Step, Stroke, ViewPlan
 
 log = logging.getLogger(__name__)

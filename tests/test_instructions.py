@@ -17,13 +17,22 @@ import numpy as np
 import pytest
 
 from h2s_print import layout as L
-from h2s_print import sheet as S
 from h2s_print import sequence as seq
+from h2s_print import sheet as S
 from h2s_print.constructions import RATIOS, Face, construct
-from h2s_print.instructions import (ALPHABET, Many, Pts, construction_specs, letter_steps, spec,
-                                    unique_specs)
+from h2s_print.instructions import (
+    ALPHABET,
+    Many,
+    Pts,
+    construction_specs,
+    letter_steps,
+    spec,
+    unique_specs,
+)
 from h2s_print.plan import build_plan
-
+from h2s_print.sequence import drafts as seq_drafts
+from h2s_print.sequence import geometry as seq_geometry
+from h2s_print.sequence import words as seq_words
 
 BOX = ((0.0, 0.0, 0.0), (40.0, 30.0, 20.0))
 
@@ -297,7 +306,7 @@ def test_a_step_stays_short_and_a_master_reads_headline_and_ratio_words(examples
                 else:
                     assert s.text.split()[:len(s.headline.split())] == s.headline.split()
                     n = len(s.text.split())
-                    if n <= seq.MAX_STEP_WORDS:
+                    if n <= seq_drafts.MAX_STEP_WORDS:
                         continue
                     # over the limit only what cannot be cut: one construction on its own, or a
                     # part's placing step with nothing left to move out (lines reused, carried,
@@ -346,7 +355,7 @@ def test_identical_parts_are_one_step_that_draws_every_instance_box(examples):
         pts = np.array([p for st in step.strokes if st.part == m for p in st.points3d])
         box = np.asarray(chosen[m].box, dtype=float)
         assert np.allclose(pts.min(axis=0), box[0]) and np.allclose(pts.max(axis=0), box[1]), m
-    others = [seq._cap(m.replace("_", " ")) for m in members if m != step.part]
+    others = [seq_words._cap(m.replace("_", " ")) for m in members if m != step.part]
     assert any(all(o.lower() in x.lower() for o in others) for x in step.substeps), step.substeps
     # their near ellipses, their far ellipses and their outlines are one step each too
     ell = [s for s in vp.steps if s.kind == "ellipse" and s.part == step.part]
@@ -359,6 +368,7 @@ def test_identical_parts_are_one_step_that_draws_every_instance_box(examples):
 
 def test_id_named_parts_are_called_by_short_labels_drawn_on_the_picture_and_listed():
     from test_sequence import PAPER, _tiny_plan
+
     from h2s_print.candidates import Anchor
     from h2s_print.config import SequenceSettings, ViewSpec
 
@@ -490,8 +500,14 @@ def test_a_round_table_top_and_foot_get_their_ellipses(tmp_path):
     constructed in the rectangle its scaffold draws (issue 12 point 1)."""
     import trimesh
     from _meshfiles import write_glb
-    from h2s_print.config import ModelSpec, SequenceSettings, SolverSettings, ViewSpec
-    from h2s_print.config import PaperSpec
+
+    from h2s_print.config import (
+        ModelSpec,
+        PaperSpec,
+        SequenceSettings,
+        SolverSettings,
+        ViewSpec,
+    )
 
     def mesh(m, dz):
         v = np.asarray(m.vertices, float) + (0.0, 0.0, dz)
@@ -555,7 +571,14 @@ def test_round_parts_get_round_primitives_and_constructed_ellipses(tmp_path, kin
     primitives, and each gets its ellipses constructed in an ellipse step (not by eye): every
     ellipse point lies on the ellipse inscribed in its box face."""
     from _meshfiles import write_glb
-    from h2s_print.config import ModelSpec, PaperSpec, SequenceSettings, SolverSettings, ViewSpec
+
+    from h2s_print.config import (
+        ModelSpec,
+        PaperSpec,
+        SequenceSettings,
+        SolverSettings,
+        ViewSpec,
+    )
 
     meshes, round_parts = _round_case(kind)
     zup = [(n, v[:, [0, 2, 1]] * (1, 1, -1), f) for n, v, f in meshes]  # z-up -> glTF y-up
@@ -600,7 +623,14 @@ def _knob_row(tmp_path, xs):
     """A 400 x 200 x 40 mm base with identical 40 x 30 x 60 knobs (instances of one mesh) on
     top, their left sides at ``xs``; planned and sequenced (novice, front-left)."""
     from _meshfiles import box, write_glb
-    from h2s_print.config import ModelSpec, PaperSpec, SequenceSettings, SolverSettings, ViewSpec
+
+    from h2s_print.config import (
+        ModelSpec,
+        PaperSpec,
+        SequenceSettings,
+        SolverSettings,
+        ViewSpec,
+    )
 
     def gl(v):
         return np.asarray(v, float)[:, [0, 2, 1]] * (1, 1, -1)  # z-up -> glTF y-up
@@ -704,7 +734,7 @@ def test_erase_hint_names_the_lines_by_their_letters_when_it_can(examples):
                          for s in st.strokes if s.kind in ("scaffold", "scaffold_hidden")
                          for k in range(len(s.points_mm) - 1)]
 
-                pen = seq.ALONG_MM  # a pencil's width on the sheet
+                pen = seq_geometry.ALONG_MM  # a pencil's width on the sheet
 
                 def along(g):  # the edges on the guide's line (both ends within a pencil)
                     a, b = np.asarray(g.from_mm), np.asarray(g.to_mm)
@@ -802,7 +832,7 @@ def test_a_carry_around_a_corner_says_both_directions(examples):
 
 def test_a_line_drawn_over_an_edge_says_so(examples):
     """"From H, draw HJ vertically, along the column's edge.": said exactly when, on the
-    sheet, both ends of the line drawn lie within a pencil's width (seq.ALONG_MM) of a
+    sheet, both ends of the line drawn lie within a pencil's width (seq_geometry.ALONG_MM) of a
     scaffold edge of a part drawn before, over more than half the line (an orange line on a
     grey edge looked like nothing new)."""
     pat = re.compile(r"(?:From|Through) ([A-Z]'*), draw ([A-Z]'*)([A-Z]'*) .*?(, along (.+)'s edge)?\.")
@@ -828,7 +858,7 @@ def test_a_line_drawn_over_an_edge_says_so(examples):
                         u = d / n
                         off = [np.linalg.norm((x - p) - ((x - p) @ u) * u) for x in (a, b)]
                         lo, hi = sorted(((a - p) @ u, (b - p) @ u))
-                        return max(off) <= seq.ALONG_MM and min(hi, n) - max(lo, 0) > 0.5 * np.linalg.norm(b - a)
+                        return max(off) <= seq_geometry.ALONG_MM and min(hi, n) - max(lo, 0) > 0.5 * np.linalg.norm(b - a)
 
                     hit = [part for p, q, part in edges if over(p, q)]
                     if m.group(4):

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
+from conftest import GUIDED  # the examples themselves: conftest's ``examples`` fixture
 
 from h2s_print import sequence as seq
 from h2s_print.candidates import Anchor, Candidate
@@ -23,10 +24,10 @@ from h2s_print.config import PaperSpec, SequenceSettings, SolverSettings, ViewSp
 from h2s_print.plan import Plan, view_json
 from h2s_print.ratios import entry_for
 from h2s_print.select import Selection
+from h2s_print.sequence import context as seq_context
+from h2s_print.sequence import drafts as seq_drafts
+from h2s_print.sequence import geometry as seq_geometry
 from h2s_print.types import Model, Part, Primitive, readonly
-
-from conftest import GUIDED  # the examples themselves: conftest's ``examples`` fixture
-
 
 # ----------------------------------------------------------------------------- fixtures
 
@@ -388,7 +389,7 @@ def test_no_tiny_closed_loops(examples):
             mm = np.asarray(st.points_mm)
             closed = len(mm) >= 3 and np.allclose(mm[0], mm[-1])
             ext = mm.max(axis=0) - mm.min(axis=0)
-            assert not (closed and max(ext) < seq.TINY_LOOP_MM), (name, st.part, ext)
+            assert not (closed and max(ext) < seq_geometry.TINY_LOOP_MM), (name, st.part, ext)
 
 
 def test_one_sentence_per_result_line(examples):
@@ -553,7 +554,7 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
             continue
-        ctx = seq._context(plan, [v for v in t.views if v.name == vp.name][0], t.paper,
+        ctx = seq_context._context(plan, [v for v in t.views if v.name == vp.name][0], t.paper,
                            t.sequence)
         for st in vp.steps:
             if st.kind != "contour":
@@ -561,10 +562,10 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
             parts = list(dict.fromkeys(s.part for s in st.strokes))
             said = [x for x in st.substeps if x.startswith(one) or x.startswith(many)]
             round_ = [p for p in parts if plan.primitive(p).type == "cylinder"
-                      and seq._round(plan.primitive(p))]
+                      and seq_geometry._round(plan.primitive(p))]
             assert len(said) == (1 if round_ else 0), (name, st.substeps)
             cones = [p for p in parts if plan.primitive(p).type == "frustum"
-                     and seq._round(plan.primitive(p))]
+                     and seq_geometry._round(plan.primitive(p))]
             along = [x for x in st.substeps if x.startswith(taper)]
             assert len(along) == (1 if cones else 0), (name, st.substeps)
             for x in along:
@@ -580,15 +581,15 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
 
 
 def test_units_touch_when_they_share_a_line_end_or_a_result_end():
-    U, L = seq._Unit, seq._Line
+    U, L = seq_drafts._Unit, seq_geometry._Line
     a = U("base", lines=[L("construction", (0.0, 0.0, 0.0), (1.0, 1.0, 0.0))],
           results=[((0.5, 0.0, 0.0), (0.5, 1.0, 0.0))])
     b = U("base", lines=[L("vanishing", (0.5, 1.0, 0.0), (0.5, 1.0, 5.0))])  # from a's result
     c = U("bowl", lines=[L("construction", (3.0, 3.0, 0.0), (4.0, 4.0, 0.0))])
     near = U("bowl", lines=[L("construction", (1.0, 1.0, 1e-7), (2.0, 2.0, 0.0))])
-    assert seq._touch(a, b, 1e-6) and seq._touch(b, a, 1e-6)
-    assert not seq._touch(a, c, 1e-6) and not seq._touch(b, c, 1e-6)
-    assert seq._touch(a, near, 1e-6) and not seq._touch(a, near, 1e-8)
+    assert seq_drafts._touch(a, b, 1e-6) and seq_drafts._touch(b, a, 1e-6)
+    assert not seq_drafts._touch(a, c, 1e-6) and not seq_drafts._touch(b, c, 1e-6)
+    assert seq_drafts._touch(a, near, 1e-6) and not seq_drafts._touch(a, near, 1e-8)
 
 
 def test_the_box_around_a_tapered_parent_is_drawn_only_where_a_construction_needs_it(examples):
@@ -706,7 +707,7 @@ def test_constructions_are_drawn_on_faces_the_view_shows(examples):
                 for a in cand.anchors:
                     if a.face_normal == a.axis:
                         continue
-                    face = seq._anchor_face(a, by_id[a.parent].box, cam)
+                    face = seq_geometry._anchor_face(a, by_id[a.parent].box, cam)
                     assert a.axis in face.in_axes
                     # independent test: the camera is on the outer side of the face's plane
                     outward = 1.0 if face.end == "hi" else -1.0
@@ -764,7 +765,7 @@ def test_every_construction_line_is_on_a_shown_face_with_room(examples):
                                                - np.dot(p[:, 1], np.roll(p[:, 0], -1))))
                         longest = float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
                         ok.append(area / max(len(inside), 1) >= t.sequence.eyeball_mm2
-                                  and area / longest >= seq.MIN_FACE_WIDTH_MM)
+                                  and area / longest >= seq_geometry.MIN_FACE_WIDTH_MM)
                     assert any(ok), (name, view.name, step.index, g.id)
                     checked += 1
     assert checked > 100
@@ -1087,7 +1088,7 @@ def test_ellipse_steps_for_cylinders(examples):
                                            - np.dot(pc[:, 1], np.roll(pc[:, 0], -1))))
                     longest = float(np.linalg.norm(pc - np.roll(pc, -1, axis=0), axis=1).max())
                     assert (area / 4 < t.sequence.eyeball_mm2
-                            or area / longest < seq.MIN_FACE_WIDTH_MM), (name, part, area)
+                            or area / longest < seq_geometry.MIN_FACE_WIDTH_MM), (name, part, area)
                     checked += 1
     assert checked >= 8
 
@@ -1101,7 +1102,7 @@ def test_a_tapered_part_says_how_much_smaller_its_small_end_is(examples):
     from h2s_print.templates import lookup
 
     amounts = {v: k for k, v in lookup("steps", "size_amounts").items()}
-    ratio = dict((name, value) for value, name in seq.SIZE_RATIOS)
+    ratio = dict((name, value) for value, name in seq_context.SIZE_RATIOS)
     faces = lookup("steps", "faces")
     pattern = re.compile(r"Its (\w+) face is about (.+) its (\w+) face's size, centred on it\.")
     said = set()
@@ -1125,7 +1126,7 @@ def test_a_tapered_part_says_how_much_smaller_its_small_end_is(examples):
                     assert max(small_half) < max(large_half)
                     r = ratio[amounts[amount]]
                     for a, b in zip(small_half, large_half):
-                        assert abs(a / b / r - 1.0) <= seq.SIZE_TOLERANCE, (name, st.part)
+                        assert abs(a / b / r - 1.0) <= seq_context.SIZE_TOLERANCE, (name, st.part)
                     said.add((name, st.part))
     assert {("camera", "prism"), ("mixer", "bowl")} <= said
 
@@ -1261,7 +1262,7 @@ def test_step_texts_name_vanishing_points_as_the_sheet_does(examples):
 
 def _named_left(plan, view) -> tuple[float, float]:
     """Sheet x (mm, independent projection) of the face centres the texts call left, right."""
-    words = seq._context(plan, view, PAPER, SequenceSettings()).words
+    words = seq_context._context(plan, view, PAPER, SequenceSettings()).words
     (lo, hi) = plan.chosen()["big"].box
     m = seq.view_camera(plan, view, PAPER).projection_mm
     xs = {}
@@ -1313,9 +1314,9 @@ def test_face_seen_almost_edge_on_is_eyeballed_whatever_the_threshold():
                     if s.part == "lid" and s.kind == "primitive")
         found[elev] = (area / longest, step.eyeball, len(step.guides))
     width, eyeball, guides = found[8.0]
-    assert width < seq.MIN_FACE_WIDTH_MM and eyeball and guides == 0, found
+    assert width < seq_geometry.MIN_FACE_WIDTH_MM and eyeball and guides == 0, found
     width, eyeball, guides = found[30.0]
-    assert width >= seq.MIN_FACE_WIDTH_MM and not eyeball and guides > 0, found
+    assert width >= seq_geometry.MIN_FACE_WIDTH_MM and not eyeball and guides > 0, found
 
 
 def _align_only(cand) -> bool:
@@ -1393,7 +1394,7 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     checked = 0
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
-        ctx = seq._context(plan, t.views[0], t.paper, t.sequence)
+        ctx = seq_context._context(plan, t.views[0], t.paper, t.sequence)
         for part, cand in chosen.items():
             if cand.anchors:
                 continue
@@ -1423,7 +1424,7 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     button = next(s for s in views[("front-left", "novice")].steps if s.part == "shutter_button"
                   and s.kind == "primitive")
     assert "Centre it front to back on the grip." in button.substeps
-    ctx = seq._context(plan, t.views[0], t.paper, t.sequence)
+    ctx = seq_context._context(plan, t.views[0], t.paper, t.sequence)
     cand = plan.chosen()["shutter_button"]
     said = ctx.free_positions("shutter_button", list(plan.chosen()), cand.unguided_axes)
     assert said and all(pos.axis in cand.unguided_axes for _, pos in said)
@@ -1485,28 +1486,28 @@ def test_sizes_by_eye_are_compared_with_a_drawn_part_at_the_ratio_said(examples)
     from h2s_print import sequence as seq
     from h2s_print.templates import lookup
 
-    value = {name: v for v, name in seq.SIZE_RATIOS}
+    value = {name: v for v, name in seq_context.SIZE_RATIOS}
     checked = 0
     for name, (t, plan, views) in examples.items():
-        ctx = seq._context(plan, t.views[0], t.paper, t.sequence)
+        ctx = seq_context._context(plan, t.views[0], t.paper, t.sequence)
         chosen = plan.chosen()
         ext = {p: [c.box[1][a] - c.box[0][a] for a in range(3)] for p, c in chosen.items()}
         for part in chosen:
             refs = sorted(q for q in chosen if q != part)
             axes = ctx.loose_axes(chosen[part])
             said = ctx.size_ratios(part, axes, refs)
-            assert len(said) <= seq.SIZE_SENTENCES
+            assert len(said) <= seq_context.SIZE_SENTENCES
             for ref, ratio, group in said:
                 for axis in group:
                     assert axis in axes
                     r = ext[part][axis] / ext[ref][axis]
-                    assert abs(r / value[ratio] - 1) <= seq.SIZE_TOLERANCE, (name, part, ref)
+                    assert abs(r / value[ratio] - 1) <= seq_context.SIZE_TOLERANCE, (name, part, ref)
                     # no earlier reference had an easy ratio on this axis
                     for q in refs[:refs.index(ref)]:
                         if ext[q][axis] > 0:
                             rq = ext[part][axis] / ext[q][axis]
-                            assert all(abs(rq / v - 1) > seq.SIZE_TOLERANCE
-                                       for v, _ in seq.SIZE_RATIOS), (name, part, q)
+                            assert all(abs(rq / v - 1) > seq_context.SIZE_TOLERANCE
+                                       for v, _ in seq_context.SIZE_RATIOS), (name, part, q)
                     checked += 1
     assert checked
     # on the pages: a size said against a drawn part is not also left to the eye
@@ -1549,7 +1550,7 @@ def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
     carried = extended = 0
     for name, (t, plan, views) in examples.items():
         for view in t.views:
-            ctx = seq._context(plan, view, t.paper, t.sequence)
+            ctx = seq_context._context(plan, view, t.paper, t.sequence)
             vps = {ctx.words.vp(a): a for a in range(3)}
             vp = views[(view.name, "novice")]
             for step in vp.steps:
@@ -1628,7 +1629,7 @@ def test_a_tutorial_stays_within_its_steps_per_shape(examples):
         chosen = plan.chosen()
         boxes = {p: c.box for p, c in chosen.items()}
         for view in t.views:
-            ctx = seq._context(plan, view, t.paper, t.sequence)
+            ctx = seq_context._context(plan, view, t.paper, t.sequence)
             classes: list[str] = []
             for p in sorted(boxes):
                 if not any(ctx.congruent(c, p, boxes) for c in classes):
@@ -1676,7 +1677,7 @@ def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples)
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
         for view in t.views:
-            ctx = seq._context(plan, view, t.paper, t.sequence)
+            ctx = seq_context._context(plan, view, t.paper, t.sequence)
             for step in views[(view.name, "novice")].steps:
                 parts = list(dict.fromkeys(st.part for st in step.strokes))
                 stems = {q: stem(ctx.say(q)) for q in parts}

@@ -1,0 +1,95 @@
+"""The one camera of a view (:func:`view_camera`), shared by all its levels and its sheet."""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+import numpy as np
+
+from ..config import PaperSpec, ViewSpec
+from ..contours import adjust_part
+from ..project import make_camera
+from ..types import Camera, Part, Vec3
+from .geometry import _anchor_lines, _box_corners
+
+log = logging.getLogger(__name__)
+
+
+#: Lines whose end points agree within this fraction of the model's diagonal are one guide.
+MERGE_TOL = 1e-6
+
+
+def _adjusted_parts(plan: Any) -> dict[str, Part]:
+    chosen = plan.chosen()
+    return {p.name: adjust_part(p, plan.primitive(p.name).box, chosen[p.name].box)
+            for p in plan.model.parts}
+
+
+def _frame_points(plan: Any, adjusted: dict[str, Part]) -> np.ndarray:
+    chosen = plan.chosen()
+    pts = [_box_corners(chosen[p.name].box) for p in plan.model.parts]
+    pts += [_box_corners(plan.primitive(p.name).box) for p in plan.model.parts]
+    pts += [np.asarray(adjusted[p.name].vertices, dtype=float) for p in plan.model.parts]
+    pts += [np.asarray(p.vertices, dtype=float) for p in plan.model.parts]
+    return np.vstack([p for p in pts if len(p)])
+
+
+def _guide_points(plan: Any, camera: Camera, tol: float) -> np.ndarray:
+    """End points of every guide any level of this view could show (eyeball rule ignored)."""
+    by_id = {c.id: c for c in plan.candidates}
+    pts: list[Vec3] = []
+    for cand in plan.chosen().values():
+        for anchor in cand.anchors:
+            if anchor.face_normal == anchor.axis:
+                continue
+            _, _, own, carry = _anchor_lines(anchor, by_id[anchor.parent].box, cand.box, camera,
+                                             tol)
+            pts += [p for ln in own + carry for p in (ln.start, ln.end)]
+    return np.array(pts, dtype=float).reshape(-1, 3)
+
+
+def _fit_camera(plan: Any, view: ViewSpec, paper: PaperSpec, adjusted: dict[str, Part],
+                tol: float) -> Camera:
+    framed = _frame_points(plan, adjusted)
+    camera = make_camera(view, framed, paper)
+    guides = _guide_points(plan, camera, tol)
+    if not len(guides):
+        return camera
+    m = paper.margin_mm
+    x0, y0, x1, y1 = m, m, paper.width_mm - m, paper.height_mm - m
+    f = camera.project(framed)
+    flo, fhi = f.min(axis=0), f.max(axis=0)
+    a = np.vstack([f, camera.project(guides)])
+    alo, ahi = a.min(axis=0), a.max(axis=0)
+    if alo[0] >= x0 - 1e-9 and alo[1] >= y0 - 1e-9 and ahi[0] <= x1 + 1e-9 and ahi[1] <= y1 + 1e-9:
+        return camera
+    # Shrink and centre everything (points and guides) into the margins.  The camera's pose
+    # does not change, only the 2D similarity on the sheet: passing make_camera the area where
+    # the framed points must land reproduces exactly that similarity.
+    k = min((x1 - x0) / (ahi[0] - alo[0]), (y1 - y0) / (ahi[1] - alo[1]))
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+    mid = (alo + ahi) / 2
+    lo = centre + k * (flo - mid)
+    hi = centre + k * (fhi - mid)
+    log.debug("view %r: guides reach beyond the margins; drawing scaled by %.4f", view.name, k)
+    return make_camera(view, framed, paper, area_mm=(lo[0], lo[1], hi[0], hi[1]))
+
+
+def _tolerance(plan: Any) -> float:
+    lo, hi = plan.model.bounds
+    return MERGE_TOL * (float(np.linalg.norm(np.subtract(hi, lo))) or 1.0)
+
+
+def view_camera(plan: Any, view: ViewSpec, paper: PaperSpec) -> Camera:
+    """The camera of ``view``, shared by all its levels and its calibrated sheet.
+
+    It frames (inside the paper margins) the selected boxes' corners, the adjusted part meshes'
+    vertices, and the fitted primitives' boxes and unadjusted meshes (used by ``basic``); when
+    a guide (of any level) would reach beyond the margins, the drawing is scaled down about
+    the sheet's centre until every guide fits too (same camera pose, smaller picture).
+
+    Raises:
+        ConfigError: the view cannot see the model (see :func:`h2s_print.project.make_camera`).
+    """
+    return _fit_camera(plan, view, paper, _adjusted_parts(plan), _tolerance(plan))

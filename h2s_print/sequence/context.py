@@ -1,0 +1,1159 @@
+"""The view context: everything a view needs, computed once; the steps of each level."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable, Iterable, Sequence
+
+import numpy as np
+
+from .. import templates
+from ..candidates import Anchor, relation_holds
+from ..config import PaperSpec, SequenceSettings, ViewSpec
+from ..constructions import Face
+from ..contours import final_contours
+from ..errors import SelectionError
+from ..instructions import (
+    Many,
+    Pts,
+    Spec,
+    construction_specs,
+    letter_steps,
+    line_runs,
+    points_key,
+    spec,
+    unique_specs,
+)
+from ..names import PartName, display_names, stem
+from ..occlude import Solid
+from ..order import drawing_order, part_size, start_part
+from ..project import vanishing_points
+from ..ratios import entry_for
+from ..types import (
+    Box,
+    Camera,
+    Guide,
+    Label,
+    Part,
+    Step,
+    Stroke,
+    VanishingPoint,
+    Vec3,
+    ViewPlan,
+)
+from .camera import _adjusted_parts, _fit_camera, _tolerance
+from .drafts import (
+    _CITES,
+    _DRAWS,
+    MAX_STEP_WORDS,
+    _carried,
+    _carry_key,
+    _citations,
+    _Draft,
+    _draws_known,
+    _first_lines,
+    _first_specs,
+    _sheet_guides,
+    _touch,
+    _Unit,
+)
+from .ellipses import _Ellipses
+from .geometry import (
+    ALONG_MM,
+    _anchor_lines,
+    _box_corners,
+    _contour_strokes,
+    _extent,
+    _Line,
+    _mostly_on,
+    _moving_axis,
+    _on_face,
+    _on_line,
+    _round,
+    _runs_along,
+    _same_segment,
+    _scaffold,
+    _too_small,
+    _touching,
+    _vec,
+)
+from .repeats import _Repeats
+from .words import (
+    _cap,
+    _join,
+    _plural,
+    _position,
+    _ratio_words,
+    _raw,
+    _substep,
+    _t,
+    _the,
+    _unique,
+    _Words,
+)
+
+log = logging.getLogger(__name__)
+
+
+#: Positions said for a part placed by eye, at most (:meth:`_Context.free_positions`).
+FREE_POSITIONS = 3
+
+
+#: Sizes a part judged by eye is compared with (:meth:`_Context.size_specs`): the ratio of its
+#: extent to a drawn part's along the same axis, named by the key of ``size_amounts``.
+SIZE_RATIOS = ((0.25, "quarter"), (1 / 3, "third"), (0.5, "half"), (2 / 3, "two-thirds"),
+               (0.75, "three-quarters"), (1.0, "same"), (1.5, "one-and-half"), (2.0, "twice"),
+               (3.0, "three-times"), (4.0, "four-times"))
+
+
+#: A size is said when the ratio is within this fraction of an easy one ...
+SIZE_TOLERANCE = 0.12
+
+
+#: ... in at most this many sentences a step.
+SIZE_SENTENCES = 2
+
+
+def _easy_ratio(ratio: float) -> str | None:
+    """The name of the :data:`SIZE_RATIOS` entry ``ratio`` lies within
+    :data:`SIZE_TOLERANCE` of (the nearest), or None."""
+    value, name = min(SIZE_RATIOS, key=lambda vn: abs(ratio / vn[0] - 1.0))
+    return name if abs(ratio / value - 1.0) <= SIZE_TOLERANCE else None
+
+
+#: Roles shown at each level.
+LEVEL_ROLES: dict[str, frozenset[str]] = {
+    "novice": frozenset({"construction", "guide", "vanishing"}),
+    "apprentice": frozenset({"guide", "vanishing"}),
+    "master": frozenset(),
+    "basic": frozenset(),
+}
+
+
+_ROLE_RANK = {"construction": 0, "vanishing": 1, "guide": 2}
+
+
+@dataclass(eq=False)
+class _Context(_Repeats, _Ellipses):
+    """Everything a view needs, computed once and shared by its levels (never escapes)."""
+
+    plan: Any
+    camera: Camera
+    settings: SequenceSettings
+    vps: tuple[VanishingPoint, ...]
+    words: _Words
+    tol: float
+    by_id: dict[str, Any]
+    chosen: dict[str, Any]
+    adjusted: dict[str, Part]
+    originals: dict[str, Part]
+    _guided: tuple[_Draft, ...] | None = None
+    _basic: tuple[_Draft, ...] | None = None
+    _ids: tuple[tuple[tuple[str, str], ...], ...] | None = None
+    _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
+    _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
+    _box_steps: dict[str, int] = field(default_factory=dict)
+    _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
+    _edges: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    _parts: tuple[list[list[str]], set[str]] | None = None
+    _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
+    names: dict[str, PartName] = field(default_factory=dict)
+
+
+    def guided_order(self, keep: Iterable[str] | None = None) -> list[str]:
+        """Drawing order of the kept primitives (all selected ones when ``keep`` is None):
+        :func:`h2s_print.order.drawing_order` on the selected boxes (module docstring,
+        "drawing order").
+
+        Raises:
+            SelectionError: the anchoring graph has a cycle.
+        """
+        names = sorted(self.chosen if keep is None else set(keep))
+        kept = set(names)
+        parents = {p: sorted({self.by_id[pid].part for pid in self.chosen[p].parents} & kept)
+                   for p in names}
+        rests_on = {p: [q for q in _touching(p, self.chosen, 100.0 * self.tol) if q in kept]
+                    for p in names if not self.chosen[p].anchors}
+        cam = np.asarray(self.camera.position, dtype=float)
+        dist = {p: float(np.linalg.norm(np.mean(np.asarray(self.chosen[p].box, dtype=float),
+                                                axis=0) - cam)) for p in names}
+        sizes = {p: part_size(self.chosen[p].box) for p in names}
+        first = self.start(kept)
+        if first is not None and self.chosen[first].anchors:
+            log.info("start part %s hangs off %s (not a root): its ancestors are drawn first",
+                     first, ", ".join(parents[first]))
+        try:
+            return drawing_order(sizes, parents, dist, first, rests_on)
+        except ValueError as err:
+            raise SelectionError(str(err)) from None
+
+    def start(self, keep: set[str]) -> str | None:
+        """The start part (:func:`h2s_print.order.start_part` of the fitted primitives); when
+        it is left out (hidden, anchoring nothing visible), the start part of the kept ones."""
+        first = start_part(self.plan.primitives)
+        if first is not None and first not in keep:
+            fallback = start_part([self.plan.primitive(p) for p in sorted(keep)])
+            log.info("start part %s is not drawn (hidden); starting from %s", first, fallback)
+            first = fallback
+        return first
+
+    def basic_order(self, keep: set[str]) -> list[str]:
+        """The control tutorial's order of the kept parts (fitted boxes, no anchoring): the
+        start part (:meth:`start`), then the others from largest to smallest
+        :func:`h2s_print.order.part_size` of the fitted box (ties: name)."""
+        first = self.start(keep)
+        return sorted(keep, key=lambda n: (n != first, -part_size(self.plan.primitive(n).box), n))
+
+    def finals(self, parts: dict[str, Part]) -> dict[str, tuple[Stroke, ...]]:
+        """Each part's strokes in the finished drawing (:func:`final_strokes`), by name."""
+        key = "basic" if parts is self.originals else "guided"
+        if key not in self._finals:
+            sets = final_contours([parts[p.name] for p in self.plan.model.parts], self.camera,
+                                  crease_deg=self.settings.crease_deg,
+                                  suggestive=self.settings.suggestive)
+            self._finals[key] = {cs.part: _contour_strokes(cs, self.camera) for cs in sets}
+        return self._finals[key]
+
+    def visible(self, parts: dict[str, Part]) -> set[str]:
+        """Parts with at least one line in the finished drawing (:meth:`finals`)."""
+        finals = self.finals(parts)
+        return {p.name for p in self.plan.model.parts if finals[p.name]}
+
+    def closure(self, visible: set[str], uses: dict[str, set[str]]) -> set[str]:
+        """``visible`` and every part reached from it through ``uses`` (part -> the parts its
+        construction is drawn from)."""
+        keep = set(visible)
+        stack = sorted(visible)
+        while stack:
+            for pp in sorted(uses.get(stack.pop(), ())):
+                if pp not in keep:
+                    keep.add(pp)
+                    stack.append(pp)
+        return keep
+
+    def free_positions(self, part: str, drawn: Sequence[str],
+                       axes: Sequence[int] = (0, 1, 2)) -> list[tuple[str, Any]]:
+        """Where a part placed by eye lines up with the parts drawn before it, as (part,
+        anchor-like position) pairs for :func:`_position`: its preserved relations with them
+        that its selected box keeps (a shared face plane: "its back in line with the base's
+        back"; a common mid-plane or axis: "its middle ... half of the way ..."), the biggest
+        drawn part first, at most one per axis and :data:`FREE_POSITIONS` in all.  They are
+        not constructed (the selection found anchoring it dearer than judging it), only
+        said, so the eye has something to go by."""
+        drawn_set = set(drawn)
+        used: set[int] = set(range(3)) - set(axes)  # only ``axes`` are said
+        ends: dict[int, set[str]] = {}  # faces already lined up, per axis
+        rels = [(r.b if r.a == part else r.a, r) for r in self.plan.relations
+                if part in (r.a, r.b)]
+        # the biggest drawn part first; faces in line before mid-planes (extending an edge is
+        # easier than finding a middle: the train's wagon has the engine's front and back)
+        rels = sorted(((q, r) for q, r in rels if q in drawn_set),
+                      key=lambda qr: (-part_size(self.chosen[qr[0]].box), qr[0],
+                                      qr[1].type != "coplanar", qr[1].type, qr[1].axis,
+                                      str(qr[1].detail.get("a_end" if qr[1].a == part
+                                                           else "b_end", ""))))
+        out: list[tuple[str, Any]] = []
+        for other, r in rels:
+            box, obox = self.chosen[part].box, self.chosen[other].box
+            if not relation_holds(r, *((box, obox) if r.a == part else (obox, box))):
+                continue
+            axes = ((r.axis,) if r.type != "coaxial"
+                    else tuple(a for a in range(3) if a != r.axis))
+            for axis in axes:
+                if len(out) >= FREE_POSITIONS:
+                    continue
+                if r.type == "coplanar":  # both faces of an axis may line up, one each
+                    mine_end = r.detail.get("a_end" if r.a == part else "b_end", "lo")
+                    said = ends.get(axis)  # None: the axis was said otherwise, or not asked
+                    if axis in used and (said is None or mine_end in said):
+                        continue
+                    ends.setdefault(axis, set()).add(mine_end)
+                elif axis in used:
+                    continue
+                flat = _extent(obox, axis) <= 1e-9 * max(_extent(obox, a) for a in range(3))
+                if r.type == "coplanar":
+                    mine = r.detail.get("a_end" if r.a == part else "b_end", "lo")
+                    theirs = r.detail.get("b_end" if r.a == part else "a_end", "lo")
+                    pos = Anchor(axis, mine, self.chosen[other].id,
+                                 0.0 if theirs == "lo" or flat else 1.0, 1,
+                                 axis if flat else (axis + 1) % 3)
+                else:  # a common mid-plane
+                    if flat:
+                        continue
+                    pos = Anchor(axis, "mid", self.chosen[other].id, 0.5, 3, (axis + 1) % 3)
+                out.append((other, pos))
+                used.add(axis)
+        return out
+
+    def free_specs(self, positions: Sequence[tuple[str, Any]]) -> list[Spec]:
+        """:meth:`free_positions` said briefly, per part drawn before: "Centre it left to
+        right on the base." and "Line up its back and bottom with the base's back and top."."""
+        out: list[Spec] = []
+        for other in _unique(q for q, _ in positions):
+            mine = [a for q, a in positions if q == other]
+            mids = [a.axis for a in mine if a.end == "mid"]
+            if mids:
+                out.append(spec("free_centre", parent=self.say(other),
+                                directions=_join([_raw("directions")[ax] for ax in mids])))
+            ends = [a for a in mine if a.end != "mid"]
+            if ends:
+                out.append(spec("free_align", parent=self.say(other),
+                                sides=_join([self.words.side(a.axis, a.end) for a in ends]),
+                                psides=_join([self.words.side(a.axis, "lo" if a.ratio < 0.5
+                                                              else "hi") for a in ends])))
+        return out
+
+    def size_ratios(self, part: str, axes: Sequence[int], refs: Sequence[str]
+                    ) -> list[tuple[str, str, list[int]]]:
+        """What a part's sizes judged by eye compare with, as ``(drawn part, ratio name,
+        axes)``: per axis of ``axes``, the first part of ``refs`` whose extent along the same
+        axis makes an easy ratio with the part's own (:data:`SIZE_RATIOS`, within
+        :data:`SIZE_TOLERANCE`); axes with the same part and ratio together; the biggest axes
+        first, at most :data:`SIZE_SENTENCES` entries.  A drawing teacher gives the proportion
+        to look for ("about as tall as the column is wide") rather than "by eye" alone."""
+        box = self.chosen[part].box
+        found: dict[tuple[str, str], list[int]] = {}
+        for axis in sorted(axes, key=lambda a: (-_extent(box, a), a)):
+            mine = _extent(box, axis)
+            for ref in refs:
+                rbox = self.chosen[ref].box
+                theirs = _extent(rbox, axis)
+                if mine <= 0 or theirs <= 1e-9 * max(_extent(rbox, a) for a in range(3)):
+                    continue
+                name = _easy_ratio(mine / theirs)
+                if name is not None:
+                    found.setdefault((ref, name), []).append(axis)
+                    break
+        return [(ref, name, sorted(group))
+                for (ref, name), group in list(found.items())[:SIZE_SENTENCES]]
+
+    def taper_specs(self, part: str) -> list[Spec]:
+        """A tapered part's smaller end compared with its larger one, when both its sides
+        narrow by the same easy ratio (:data:`SIZE_RATIOS` within :data:`SIZE_TOLERANCE`):
+        "Its bottom face is about half its top face's size, centred on it."  The lines drawn
+        place the box around it; without this the smaller end was guessed (the read-through:
+        the mixer's bowl)."""
+        prim = self.plan.primitive(part)
+        detail = prim.detail or {}
+        if prim.type != "frustum" or prim.axis is None or not {"lo_half", "hi_half"} <= set(detail):
+            return []
+        lo, hi = (tuple(float(x) for x in detail[k]) for k in ("lo_half", "hi_half"))
+        small, large = ("lo", "hi") if max(lo) < max(hi) else ("hi", "lo")
+        s_half, l_half = (lo, hi) if small == "lo" else (hi, lo)
+        if min(l_half) <= 0.0:
+            return []
+        names = {_easy_ratio(a / b) for a, b in zip(s_half, l_half)}
+        narrower = {name for value, name in SIZE_RATIOS if value < 1.0}
+        if len(names) != 1 or not names <= narrower:  # one easy ratio, a real taper
+            return []
+        return [spec("taper", small=self.words.face(prim.axis, small),
+                     large=self.words.face(prim.axis, large),
+                     amount=_raw("size_amounts")[names.pop()])]
+
+    def size_specs(self, part: str, axes: Sequence[int], refs: Sequence[str]
+                   ) -> list[tuple[Spec, list[int]]]:
+        """:meth:`size_ratios` said ("Make its height about a third of the base's."), each
+        with the axes it sizes."""
+        amounts = _raw("size_amounts")
+        return [(spec("size" if len(group) == 1 else "size_many",
+                      dims=_join([self.words.dim(a) for a in group]),
+                      amount=amounts[name], parent=self.say(ref)), group)
+                for ref, name, group in self.size_ratios(part, axes, refs)]
+
+    def step_words(self, specs: Sequence[Spec], headline: str) -> int:
+        """Words of a step's text with ``headline`` and these sub-steps, lettered and
+        numbered as the page says them."""
+        (subs, _), = letter_steps([self.lettered(specs)], self.tol, _substep, _join)
+        text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
+                                      for k, x in enumerate(subs)])
+        return len(text.split())
+
+    def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
+              sizes: list[tuple[Spec, list[int]]]) -> list[Spec]:
+        """``build(sizes[:n])``, the sub-steps with the most size sentences (biggest axes
+        first) that keep the step within :data:`MAX_STEP_WORDS`: sizes help the eye, but
+        never make a step longer than the limit or split it (they are not counted when
+        constructions are packed into steps)."""
+        for n in range(len(sizes), 0, -1):
+            specs = build(sizes[:n])
+            if self.step_words(specs, headline) <= MAX_STEP_WORDS:
+                return specs
+        return build([])
+
+    def parents_of(self, part: str) -> set[str]:
+        """The parts ``part``'s selected candidate hangs off."""
+        return {self.by_id[pid].part for pid in self.chosen[part].parents}
+
+    def guided_parts(self) -> tuple[list[list[str]], set[str]]:
+        """The guided tutorial's parts: repeat groups in drawing order (:meth:`repeat_groups`)
+        and the set of parts kept (module docstring, *Left out*).
+
+        A hidden part stays only when a kept part's construction is drawn from it: the first
+        part of a group is constructed from its parents, a copy only when its sentence places
+        it by them (:meth:`copy_places`); a copy drawn "where the picture shows it" needs none.
+        Leaving a part out changes the groups, so this runs to a fixed point (every part a kept
+        part is drawn from is kept, and nothing else hidden), starting from every ancestor of a
+        visible part; without one within a round per part, every ancestor is kept (valid: no
+        part is drawn from a part left out, though a hidden one may be drawn for nothing).
+        """
+        if self._parts is not None:
+            return self._parts
+        names = [p.name for p in self.plan.model.parts]
+        visible = self.visible(self.adjusted)
+        everything = self.closure(visible, {p: self.parents_of(p) for p in names})
+        keep = everything
+        for _ in range(len(names) + 1):
+            groups = self.groups_of(keep, visible)
+            uses = self.uses(groups, keep)
+            need = self.closure(visible, uses)
+            if need == keep:
+                break
+            keep = need
+        else:
+            keep = everything
+            groups = self.groups_of(keep, visible)
+            uses = self.uses(groups, keep)
+        left_out = sorted(set(names) - keep)
+        if left_out:
+            log.info("left out (hidden, anchoring nothing visible): %s", ", ".join(left_out))
+        for part in sorted(keep - visible):
+            users = sorted(q for q in keep if part in uses.get(q, ()))
+            log.info("kept though hidden: %s (anchors %s)", part, ", ".join(users) or "nothing")
+        self._parts = (groups, keep)
+        return self._parts
+
+    def uses(self, groups: Sequence[Sequence[str]], keep: set[str]) -> dict[str, set[str]]:
+        """Per part, the parts its construction is drawn from (:meth:`guided_parts`)."""
+        uses: dict[str, set[str]] = {}
+        for group in groups:
+            uses[group[0]] = self.parents_of(group[0])
+            placed = self.copy_places(group[1:], keep)
+            for q in group[1:]:
+                uses[q] = self.parents_of(q) if placed.get(q) else set()
+        return uses
+
+    def groups_of(self, keep: set[str], visible: set[str]) -> list[list[str]]:
+        """:meth:`repeat_groups` of the kept parts in :meth:`guided_order`, each group led by a
+        part that can be constructed and is seen: when its first part hangs off a part left
+        out, or is hidden while a member is not, the first member that is seen, hangs off no
+        part left out and off parts drawn before the group leads it instead (the copy of a part
+        left out is then the one placed by eye); failing that, a hidden first part is drawn on
+        its own before the others (it anchors them)."""
+        order = self.guided_order(keep)
+        boxes = {p: self.chosen[p].box for p in order}
+        parents = {p: self.parents_of(p) & keep for p in order}
+        out: list[list[str]] = []
+        before: set[str] = set()
+        for group in self.repeat_groups(order, boxes, parents):
+            head = group[0]
+            seen = [q for q in group if q in visible]
+            if not self.parents_of(head) <= keep or (head not in visible and seen):
+                lead = next((q for q in group[1:] if q in visible
+                             and self.parents_of(q) <= before), None)
+                if lead is not None:
+                    group = [lead] + [q for q in group if q != lead]
+                elif head not in visible and seen:
+                    out.append([head])
+                    before.add(head)
+                    group = group[1:]
+            out.append(group)
+            before.update(group)
+        return out
+
+    def say(self, part: str) -> str:
+        """What the texts call ``part`` (:func:`h2s_print.names.display_names`)."""
+        return self.names[part].label
+
+    def part_labels(self, part: str, box: Box, numbered: bool = False
+                    ) -> tuple[tuple[str, Vec3], ...]:
+        """The short name drawn next to a part whose own name is not readable, or (with
+        ``numbered``) whose step draws another part named alike but for its number: the
+        train's "wheel 1, wheel 3, wheel 5 and wheel 7" left a reader asking which was which
+        (else none)."""
+        if self.names[part].readable and not numbered:
+            return ()
+        return ((self.names[part].label, _vec(np.mean(np.asarray(box, dtype=float), axis=0))),)
+
+    def lettered(self, specs: Sequence[Spec]) -> tuple[Spec, ...]:
+        """A step's sub-steps, each said once, twins together
+        (:func:`h2s_print.instructions.unique_specs`), lines from earlier steps first (so no
+        point is used before a sub-step names it); lettered later (:meth:`letter`)."""
+        ordered = sorted(specs, key=lambda x: x.key not in ("reuse", "box_reuse"))
+        return tuple(self.uncited(unique_specs(ordered, _plural)))
+
+    def uncited(self, specs: Sequence[Spec]) -> list[Spec]:
+        """``specs`` without citing a line that a later sub-step of the step names: "Use KL
+        from step 2" or "Use the edge KL" before "Carry KL to the grip" only repeated KL,
+        which the picture shows as used again (issue 11: one sub-step per construction).  A
+        citation keeps the lines no later sub-step names."""
+        out: list[Spec] = []
+        for i, s in enumerate(specs):
+            if s.key in _CITES:
+                later = [run.points for x in specs[i + 1:] if x.key not in _CITES
+                         for _, v in x.fields if isinstance(v, (Pts, Many))
+                         for run in line_runs(v) if len(run.points) == 2]
+                f = dict(s.fields)
+                runs = line_runs(f["line"])
+                left = tuple(r for r in runs if not any(
+                    _same_segment(r.points[0], r.points[1], p, q, self.tol) for p, q in later))
+                if not left:
+                    continue
+                if len(left) < len(runs):
+                    f["line"] = left[0] if len(left) == 1 else Many(left)
+                    key = "edge" if s.key == "edge_two" and len(left) == 1 else s.key
+                    if key == "reuse_for":  # the sides were said of all its lines together
+                        key = "reuse"
+                        f.pop("sides")
+                    s = spec(key, s.same, s.pair, **f)
+            out.append(s)
+        return out
+
+    def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
+        """The drafts with their sub-steps formatted and their points lettered, the whole
+        tutorial at once (:func:`h2s_print.instructions.letter_steps`)."""
+        # a line is drawn from the first step that uses it to the last (the guides' lifetime):
+        # its ends stay on the paper that long
+        last: dict[tuple, tuple[int, Vec3, Vec3]] = {}  # by line: its last step, its ends
+        for k, d in enumerate(drafts):
+            for ln in d.lines:
+                last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
+        on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
+        done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper)
+        return [replace(d, substeps=tuple(subs), labels=tuple(labels))
+                for d, (subs, labels) in zip(drafts, done)]
+
+    def primitive_drafts(self, part: str, first: bool, step: int = 0,
+                         described: list[tuple[Vec3, Vec3, int]] | None = None,
+                         drawn: Sequence[str] = (), repeat: Sequence[Spec] = ()
+                         ) -> list[_Draft]:
+        """The primitive step of ``part`` (step number ``step``), preceded by guides steps when
+        its sub-steps would not fit :data:`MAX_STEP_WORDS` (module docstring, *Text*);
+        ``repeat`` are the sub-steps drawing its copies (identical parts), said last."""
+        cand = self.chosen[part]
+        prim = self.plan.primitive(part)
+        words = self.words
+        strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
+        shape = words.shape(prim.type)
+        repeat = [*self.taper_specs(part), *repeat]  # said after the box, before any copies
+        name = self.say(part)
+        note = _raw("headline.cylinder_note") if _round(prim) else ""
+        if first:
+            subs = self.lettered([*_first_specs(_first_lines(strokes, self.camera)), *repeat])
+            return [_Draft(part, "primitive", False, (), strokes,
+                           _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
+        if not cand.anchors:  # free: say what it touches among the parts drawn so far
+            near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
+            near.sort(key=lambda q: -part_size(self.chosen[q].box))
+            where = self.free_specs(self.free_positions(part, drawn))
+            refs = near + sorted((q for q in drawn if q not in near),
+                                 key=lambda q: (-part_size(self.chosen[q].box), q))
+            head = _t("headline.free", Part=_cap(name), shape=shape) + note
+
+            def free(sizes: list[tuple[Spec, list[int]]]) -> list[Spec]:
+                # with sizes said, "compare their sizes" is said by them
+                placing = (spec("free_near_sized" if sizes else "free_near",
+                                other=self.say(near[0])) if near else spec("free"))
+                return [placing, *where, *(x for x, _ in sizes), *repeat]
+
+            subs = self.lettered(self.sized(head, free, self.size_specs(
+                part, self.loose_axes(cand), refs)))
+            return [_Draft(part, "primitive", False, (), strokes, head, subs)]
+        built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
+        flat: list[Spec] = []
+        on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)
+        faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
+        for anchor in cand.anchors:
+            parent = self.by_id[anchor.parent]
+            if anchor.face_normal == anchor.axis:
+                flat.append(spec("flat", side=words.side(anchor.axis, anchor.end),
+                                 parent=self.say(parent.part)))
+                continue
+            if _on_face(anchor, parent.box, cand.box, self.tol):  # the face itself is the guide
+                on_faces.setdefault(parent.part, []).append(
+                    (words.side(anchor.axis, anchor.end),
+                     words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi")))
+                continue
+            face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
+                                                  self.tol)
+            if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
+                faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
+            built.append((anchor, parent.part, face, con, own, carry))
+        for ppart, pairs in on_faces.items():  # said once per parent
+            sides, names = zip(*pairs)
+            flat.append(spec("on_face" if len(pairs) == 1 else "on_faces", sides=_join(sides),
+                             parent=self.say(ppart), faces=_join(names)))
+        eyeball = False
+        for face, own in faces.values():
+            k = len(_distinct(own, self.tol))
+            if k and _too_small(self.camera, face.corners, k, self.settings.eyeball_mm2):
+                eyeball = True
+        loose = self.loose_axes(cand)
+        # sizes judged by eye: compared with the parts it hangs off, then those it touches
+        refs = _unique([self.by_id[a.parent].part for a in cand.anchors]
+                       + [q for q in _touching(part, self.chosen, 100.0 * self.tol)
+                          if q in drawn])
+        sizes = self.size_specs(part, loose, refs)
+
+        def by_eye(chosen: list[tuple[Spec, list[int]]]) -> tuple[list[Spec], str]:
+            """The size sentences chosen, and the sizes left to the eye."""
+            done = {a for _, group in chosen for a in group}
+            return [x for x, _ in chosen], _join([words.dim(a) for a in loose if a not in done])
+        parents = _join([_the(x) for x in _unique(self.say(self.by_id[a.parent].part)
+                                                  for a in cand.anchors)])
+        summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
+                              for a in cand.anchors])) + "."
+        if eyeball:
+            specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
+                                                         True)) for a in cand.anchors]
+            head = _t("headline.eyeball", Part=_cap(name), shape=shape) + note
+
+            def eyeballed(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
+                said, dims = by_eye(chosen)
+                return specs + said + ([spec("by_eye", dims=dims)] if dims else []) + list(repeat)
+
+            subs = self.lettered(self.sized(head, eyeballed, sizes))
+            return [_Draft(part, "primitive", True, (), strokes, head, subs, summary)]
+        # Units of construction, one per parent face (lines shared on a face stay together).
+        units: dict[tuple[str, int, str], _Unit] = {}
+        earlier = [] if described is None else described
+        boxed: set[str] = set()
+        known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
+        carried: dict[tuple[int, int | None], list[Pts]] = {}  # by (first axis, turn)
+        corners: dict[tuple[int, int | None], list[Pts]] = {}  # where those turn, in order
+        carry_lines: list[_Line] = []
+        for anchor, ppart, face, con, own, carry in built:
+            unit = units.setdefault((anchor.parent, face.normal, face.end,
+                                     points_key((con.result.start, con.result.end), self.tol)),
+                                    _Unit(ppart))
+            unit.anchors.append(anchor)
+            around = self.box_around(ppart)
+            # constructions on a tapered parent start from its box, where they use it: a
+            # point of theirs on an edge of the box that the scaffold does not draw
+            if around and ppart not in boxed and self.uses_box(ppart, around, con):
+                boxed.add(ppart)
+                unit.lines += around
+                seen = self._box_steps.get(ppart)
+                unit.specs.append(spec("box_around", parent=self.say(ppart)) if seen is None
+                                  else spec("box_reuse", parent=self.say(ppart), step=seen))
+            a, b = con.result.start, con.result.end
+            # drawn before, as a result or as any construction line (the train's boiler sits
+            # on FG, the cab's half line: its guides step only said "Use diagonals AC and DB
+            # from step 3 ... Use FG from step 3", drawing nothing)
+            old = [n for p, q, n in earlier if _same_segment(a, b, p, q, self.tol)] or sorted(
+                n for p, q, n in self._drawn if n < step and _same_segment(a, b, p, q, self.tol))
+            twice = any(_same_segment(a, b, p, q, self.tol)
+                        for u in units.values() for p, q in u.results)
+            if twice:  # the same line from another face of the parent: said once
+                pass
+            elif old and old[0] < step:
+                unit.specs.append(spec("reuse", ("reuse", old[0], a, b), ("reuse", old[0]),
+                                       line=Pts((a, b)), step=old[0]))
+                known.append((a, b))
+                unit.results.append((a, b))
+                unit.origin[len(unit.results) - 1] = old[0]
+            else:
+                unit.specs += construction_specs(con, self.say(ppart),
+                                                 words.face(face.normal, face.end), words.vp,
+                                                 self.tol)
+                unit.room = unit.room or entry_for(anchor.ratio).needs_room
+                unit.results.append((a, b))
+            unit.lines += own
+            if carry:
+                carry_lines += carry
+                first, *rest = [_moving_axis(c) for c in carry]
+                turn = next((x for x in rest if x != first), None)  # around a corner: then this
+                runs = carried.setdefault((first, turn), [])
+                if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
+                    runs.append(Pts((a, b)))
+                    if turn is not None:  # where it turns, lettered on the picture
+                        corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
+        for unit in units.values():  # a line reused from an earlier step is not drawn again
+            unit.specs = [self.along_edge(self.drawn_before(x, step), drawn)
+                          for x in unit.specs if not _draws_known(x, known, self.tol)]
+        # A carry that turns a corner (toward a vanishing point to the part's plane, then
+        # across to its face) says both directions: the read-through missed the turn when
+        # only the first was said.
+        # a line that already runs along its carry direction is extended, not carried
+        # ("Carry AB to part 4, vertically" where AB is vertical read as nonsense)
+        extended = [r for (axis, turn), runs in sorted(carried.items(), key=_carry_key)
+                    for r in runs if turn is None and _runs_along(r, axis)]
+        carries = [(axis, turn, kept) for (axis, turn), runs in carried.items()
+                   if (kept := [r for r in runs if turn is not None
+                                or not _runs_along(r, axis)])]
+        if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
+            (a0, _, r0), (a1, _, r1) = carries  # two directions: one sentence
+            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=words.vp(a0),
+                             lines2=Many(tuple(r1)), vp2=words.vp(a1))]
+        else:
+            carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
+                        if turn is None else
+                        spec("carry_turn", lines=Many(tuple(runs)), part=name,
+                             vp=words.vp(axis), vp2=words.vp(turn),
+                             turns=Many(tuple(corners[axis, turn])))
+                        for axis, turn, runs in carries]
+        if extended:
+            carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))
+        carry_unit: _Unit | None = None
+        if carrying:  # carrying lines needs no room: it stays with the part unless too long
+            carry_unit = units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part,
+                                                   carrying, carry_lines)
+        placing: list[Spec] = list(flat)
+        for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
+            if anchor.end == "mid":                       # straddles a line
+                line = (con.result.start, con.result.end)
+                # carried off its own line: the line the carry ends on, lettered, is the one
+                # at the part (the plate's dowel read "Centre dowel 4 on AB" with AB the
+                # plate's front edge, far from the dowel)
+                if carry and not all(_on_line(p, *line, self.tol)
+                                     for p in (carry[-1].start, carry[-1].end)):
+                    line = (carry[-1].start, carry[-1].end)
+                placing.append(spec("centred", (), ("centred",), part=name, line=Pts(line)))
+        # an axis with no anchor at all: say what it lines up with, as for a part by eye
+        placing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
+        # no line constructed (faces and planes of drawn parts only): no "these lines" to name
+        there = "" if built else "_there"
+
+        def closing_with(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
+            said, dims = by_eye(chosen)
+            return (placing + said + [spec("place_by_eye" + there, shape=shape, dims=dims) if dims
+                                      else spec("place" + there, shape=shape)] + list(repeat))
+
+        closing = closing_with([])
+        head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
+        def guides_head(group: list[_Unit]) -> str:
+            gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
+            return _t("headline.guides", part=name, the_parents=gparents)
+
+        groups = self.pack(list(units.values()), closing, head, step, guides_head)
+        drafts: list[_Draft] = []
+        said: set = set()  # lines an earlier guides step of this part drew: not drawn again
+        for k, group in enumerate(groups[:-1]):
+            here = step + k
+            subs = self.lettered([x for u in group for x in u.specs
+                                  if not (x.same and x.same in said)])
+            said.update(x.same for x in subs if x.same)
+            self.record(group, here, described)
+            gsummary = _t("substep.guides_for", words=_join(_unique(
+                _ratio_words(words, a, self.say(self.by_id[a.parent].part))
+                for u in group for a in u.anchors)))
+            drafts.append(_Draft(part, "guides", False, tuple(ln for u in group for ln in u.lines),
+                                 (), guides_head(group), subs,
+                                 gsummary))
+        last = groups[-1]
+        here = step + len(groups) - 1
+        before = [u for g in groups[:-1] for u in g]
+        moved = _carried(groups[:-1])
+        own = [x for u in last for x in u.specs if not (x.same and x.same in said)
+               and not (x.key == "reuse" and tuple(dict(x.fields)["line"].points) in moved)]
+        mine = _citations(groups[:-1], step, self.anchor_side) + own
+        if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
+            mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
+        subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
+        self.record(last, here, described)
+        # the box is drawn on the carried lines: carried in a guides step, they stay (the
+        # read-through found them erased before the step that uses them)
+        lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
+                 + [ln for u in before if u is carry_unit for ln in u.lines]
+                 + [ln for u in last for ln in u.lines])
+        drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
+                             summary))
+        return drafts
+
+    def record(self, units: Sequence["_Unit"], step: int,
+               described: list[tuple[Vec3, Vec3, int]] | None) -> None:
+        """Note that step ``step`` drew these units: their result lines (for later steps to
+        cite) and the box around a tapered parent (for later steps to reuse)."""
+        for u in units:
+            if described is not None:
+                described.extend((a, b, step) for a, b in u.results)
+            for x in u.specs:
+                if x.key == "box_around":
+                    self._box_steps.setdefault(u.parent, step)
+
+    def along_edge(self, s: Spec, drawn: Sequence[str]) -> Spec:
+        """``s``, said "along the base's edge" when most of the line it draws lies on a
+        scaffold edge of a part drawn before, on the sheet (:data:`ALONG_MM`; the
+        read-through saw nothing new where an orange line lay on a grey edge)."""
+        if s.key not in ("from", "through", "cross"):
+            return s
+        f = dict(s.fields)
+        line = f.get("line")
+        if not isinstance(line, Pts) or len(line.points) != 2:
+            return s
+        # on the sheet: an edge behind the line in space still lies under it on the paper
+        a, b = np.asarray(self.camera.project(np.asarray(line.points, dtype=float)), dtype=float)
+        for part in drawn:
+            if part not in self._edges:
+                prim = self.plan.primitive(part)
+                self._edges[part] = [
+                    (np.asarray(st.points_mm[0], dtype=float), np.asarray(st.points_mm[-1], dtype=float))
+                    for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+            if any(_mostly_on(a, b, p, q, ALONG_MM) for p, q in self._edges[part]):
+                return spec(f"{s.key}_along", s.same, s.pair, part=self.say(part), **f)
+        return s
+
+    def drawn_before(self, s: Spec, step: int) -> Spec:
+        """``s``, or "Use ... from step N" when an earlier step drew all its lines (the
+        diagonals of a face another part's step already divided, say)."""
+        if s.key not in _DRAWS or not self._drawn:
+            return s
+        f = dict(s.fields)
+        lines = [f[k].points for k in _DRAWS[s.key] if isinstance(f.get(k), Pts)]
+        steps = []
+        for a, b in lines:
+            at = [n for p, q, n in self._drawn if n < step and _same_segment(a, b, p, q, self.tol)]
+            if not at:
+                return s
+            steps.append(at[0])
+        return spec(f"{s.key}_reuse", s.same, s.pair, step=max(steps), **f)
+
+    def anchor_side(self, anchor: Any) -> str:
+        """The side of the part an anchor places ("back", "middle (front to back)")."""
+        return self.words.side(anchor.axis, anchor.end)
+
+    def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int,
+             guides_head: Callable[[list["_Unit"]], str]) -> list[list["_Unit"]]:
+        """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
+        the last group goes with ``closing`` (the placing sub-steps) under ``head``, the
+        others are guides steps under ``guides_head(group)``; one unit alone may exceed the
+        limit (it is not cut).  Lines an earlier group drew are not counted again (they are
+        not said again)."""
+        def fits(group: list[_Unit], extra: list[Spec], said: set) -> bool:
+            specs = [x for u in group for x in u.specs if not (x.same and x.same in said)]
+            return self.step_words(specs + extra, head if extra else guides_head(group)
+                                   ) <= MAX_STEP_WORDS
+
+        if not units or fits(units, closing, set()):
+            return [units]
+        reuse = _citations([units], step, self.anchor_side)  # as the placing step will cite
+        # them (worst case)
+        # Edges extended and guides reused need no room: they stay with the placing step.
+        tail = [u for u in units if not u.room]
+        rest = [u for u in units if u.room]
+
+        def said_by(groups: list[list[_Unit]]) -> set:
+            return {x.same for g in groups for u in g for x in u.specs if x.same}
+
+        while rest and fits([rest[-1]] + tail, reuse + closing, said_by([rest[:-1]])):
+            tail.insert(0, rest.pop())
+        movable = [u for u in tail if any(x.key != "reuse" for x in u.specs)]
+        while movable and not fits(tail, reuse + closing, said_by([rest])):  # edges: move too
+            u = movable.pop(0)  # (a line only reused stays: moving it would cite it twice)
+            tail.remove(u)
+            rest.append(u)
+        def grouped(rest: list[_Unit]) -> list[list[_Unit]]:
+            groups: list[list[_Unit]] = []
+            for u in rest:
+                if groups and fits(groups[-1] + [u], [], said_by(groups[:-1])):
+                    groups[-1].append(u)
+                else:
+                    groups.append([u])
+            # a group may also join a later one when both fit one step and no group between
+            # them shares a point with it (none uses what it draws): the mixer's head had
+            # guides on the base, on the bowl, then carried from the base, now two steps
+            merged = True
+            while merged:
+                merged = False
+                for i, j in ((i, j) for i in range(len(groups) - 1)
+                             for j in range(len(groups) - 1, i + 1, -1)):
+                    trial = groups[:i] + groups[i + 1:j] + [groups[i] + groups[j]]
+                    if fits(trial[-1], [], said_by(trial[:-1])) and not any(
+                            _touch(u, v, self.tol) for k in range(i + 1, j)
+                            for u in groups[i] for v in groups[k]):
+                        groups = trial + groups[j + 1:]
+                        merged = True
+                        break
+            return groups
+
+        groups = grouped(rest)
+        # the estimate above cites every line as one step's; the guides steps now known, the
+        # placing step cites each with its own step ("Use UV from step 5. Use HJ from step 6.")
+        while movable and not fits(tail, _citations(groups, step, self.anchor_side) + closing,
+                                   said_by(groups)):
+            u = movable.pop(0)
+            tail.remove(u)
+            rest.append(u)
+            groups = grouped(rest)
+        return groups + [tail]
+
+    def uses_box(self, part: str, around: Sequence[_Line], con: Any) -> bool:
+        """Does construction ``con`` on tapered ``part`` use its box: does an end of one of its
+        lines lie on a box edge of ``around`` (those the scaffold leaves out) and on no edge
+        the scaffold draws?  Not when it lies on the face the scaffold draws whole (the
+        camera's prism's top, the bowl's rim face)."""
+        drawn = self.scaffold_ends(part)
+        missing = [(np.asarray(ln.start, dtype=float), np.asarray(ln.end, dtype=float))
+                   for ln in around]
+
+        def on(p: np.ndarray, segs: list[tuple[np.ndarray, np.ndarray]]) -> bool:
+            for a, b in segs:
+                d = b - a
+                t = float(np.clip(np.dot(p - a, d) / max(float(np.dot(d, d)), 1e-300), 0, 1))
+                if float(np.abs(a + t * d - p).max()) <= self.tol:
+                    return True
+            return False
+
+        ends = [np.asarray(q, dtype=float) for ln in con.lines for q in (ln.start, ln.end)]
+        return any(on(p, missing) and not on(p, drawn) for p in ends)
+
+    def scaffold_ends(self, part: str) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The 3D ends of ``part``'s scaffold strokes in its selected box (computed once)."""
+        if part not in self._scaffold_ends:
+            prim = self.plan.primitive(part)
+            self._scaffold_ends[part] = [
+                (np.asarray(st.points3d[0], dtype=float), np.asarray(st.points3d[-1], dtype=float))
+                for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+        return self._scaffold_ends[part]
+
+    def box_around(self, part: str) -> list[_Line]:
+        """For a part whose scaffold does not draw its selected box's faces (a frustum), the
+        box edges the scaffold leaves out (role ``vanishing``); else nothing."""
+        if self.plan.primitive(part).type != "frustum":
+            return []
+        drawn = self.scaffold_ends(part)
+        pts = _box_corners(self.chosen[part].box)
+        out = []
+        for i in range(8):
+            for j in range(i + 1, 8):
+                if bin(i ^ j).count("1") != 1:  # corners i*4 + j*2 + k differ in one axis
+                    continue
+                a, b = pts[i], pts[j]
+                if float(np.abs(b - a).max()) <= self.tol:
+                    continue
+                if not any(_same_segment(a, b, p, q, self.tol) for p, q in drawn):
+                    out.append(_Line("vanishing", _vec(a), _vec(b)))
+        return out
+
+    def loose_axes(self, cand: Any) -> list[int]:
+        """Axes of ``cand`` with fewer than two anchored ends (judged by eye), not flat: a
+        plane is drawn as a rectangle in its mid-plane (:func:`_solid`), so its normal has no
+        size to judge even when its box keeps the panel's thickness."""
+        biggest = max(_extent(cand.box, a) for a in range(3))
+        prim = self.plan.primitive(cand.part)
+        normal = prim.axis if prim.type == "plane" else None
+        return [a for a in range(3)
+                if sum(1 for an in cand.anchors if an.axis == a) < 2
+                and _extent(cand.box, a) > 1e-9 * biggest and a != normal]
+
+    def guided(self) -> tuple[_Draft, ...]:
+        if self._guided is None:
+            groups, keep = self.guided_parts()
+            boxes = {p: self.chosen[p].box for g in groups for p in g}
+            described: list[tuple[Vec3, Vec3, int]] = []
+            drafts: list[_Draft] = []
+            drawn: list[str] = []
+            for gi, group in enumerate(groups):
+                p = group[0]
+                shape = self.words.shape(self.plan.primitive(p).type)
+                rows = self.spaced_rows(group, boxes)
+                spaced = {q for row, _, _ in rows for q in row[2:]}
+                rest = [q for q in group[1:] if q not in spaced]
+                repeat = self.same_sentence(rest, shape, keep)
+                made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
+                                             repeat=repeat)
+                if rest:
+                    others = [_Draft(q, "primitive", False, (),
+                                     _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
+                                               self.tol), "") for q in rest]
+                    made[-1] = self.merge_group(made[-1], [p, *rest], others, repeat)
+                made += [self.spacing_draft(row, axis, face, boxes, shape)
+                         for row, axis, face in rows]
+                for k, d in enumerate(made):  # lines a later step may say "use" of
+                    self._drawn.extend((ln.start, ln.end, len(drafts) + 1 + k) for ln in d.lines)
+                drafts += made
+                drawn += group
+            order = [q for g in groups for q in g]
+            lead = {q: g[0] for g in groups for q in g}
+            ellipses: list[_Draft] = []
+            small: dict[str, _Draft] = {}  # ellipses sketched by eye: with the outlines
+            for group in groups:
+                p = group[0]
+                prim = self.plan.primitive(p)
+                if not _round(prim):
+                    continue
+                made = [replace(d, group=tuple(group)) for d in self.ellipse_drafts(
+                    p, boxes[p], False, [(q, boxes[q]) for q in group[1:]])]
+                if made[0].eyeball:
+                    small[p] = made[0]
+                else:
+                    ellipses += made
+            for d in ellipses:  # diagonals a primitive step drew already: used, not redrawn
+                here = len(drafts) + 1
+                drafts.append(replace(d, specs=tuple(self.drawn_before(x, here) for x in d.specs)))
+            contours = self.contour_drafts(order, self.adjusted)
+            merged: list[_Draft] = []
+            at: dict[str, int] = {}
+            for d in contours:  # a group's outlines together, where its first one comes
+                head = lead.get(d.part, d.part)
+                if head in at:
+                    k = at[head]
+                    merged[k] = replace(merged[k], strokes=merged[k].strokes + d.strokes,
+                                        group=merged[k].group + (d.part,))
+                else:  # the step is named after the group's first part, as its other steps
+                    at[head] = len(merged)
+                    merged.append(replace(d, part=head, group=(d.part,)))
+            for head, e in small.items():  # a small ellipse joins its part's outlines
+                if head in at:
+                    k = at[head]
+                    merged[k] = replace(merged[k], strokes=e.strokes + merged[k].strokes,
+                                        specs=(spec("ellipse_by_eye_part",
+                                                    part=self.say(head)),) + merged[k].specs)
+                else:
+                    drafts.append(e)
+            drafts += self.pack_outlines(merged, lead)
+            self._guided = tuple(self.letter(drafts))
+        return self._guided
+
+    def basic(self) -> tuple[_Draft, ...]:
+        if self._basic is None:
+            keep = self.visible(self.originals)
+            left_out = sorted({p.name for p in self.plan.model.parts} - keep)
+            if left_out:
+                log.info("left out (hidden): %s", ", ".join(left_out))
+
+            order = self.basic_order(keep)
+            drafts: list[_Draft] = []
+            for i, p in enumerate(order):
+                prim = self.plan.primitive(p)
+                shape = self.words.shape(prim.type)
+                head = _t("headline.first" if i == 0 else "headline.basic",
+                          Part=_cap(self.say(p)), shape=shape)
+                lines = _scaffold(p, prim, prim.box, self.camera, self.tol)
+                subs = (tuple(_first_specs(_first_lines(lines, self.camera))) if i == 0
+                        else (spec("basic_part"),))
+                drafts.append(_Draft(p, "basic", True, (), lines, head, subs))
+            drafts += [d for p in order if _round(self.plan.primitive(p))
+                       for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
+            drafts += self.contour_drafts(order, self.originals)
+            self._basic = tuple(self.letter(drafts))
+        return self._basic
+
+    def guide_ids(self) -> tuple[tuple[tuple[str, str], ...], ...]:
+        """Per guided draft, its lines as ``(guide id, role)``, merged within the step."""
+        if self._ids is None:
+            reg: list[tuple[np.ndarray, np.ndarray]] = []
+            out = []
+            for d in self.guided():
+                step: dict[str, str] = {}
+                for ln in d.lines:
+                    a, b = np.asarray(ln.start), np.asarray(ln.end)
+                    gid = None
+                    for i, (p, q) in enumerate(reg):
+                        if _same_segment(a, b, p, q, self.tol):
+                            gid = f"g{i + 1}"
+                            break
+                    if gid is None:
+                        reg.append((a, b))
+                        gid = f"g{len(reg)}"
+                        self._canon[gid] = (ln.start, ln.end)
+                    if gid not in step or _ROLE_RANK[ln.role] > _ROLE_RANK[step[gid]]:
+                        step[gid] = ln.role
+                out.append(tuple(step.items()))
+            self._ids = tuple(out)
+        return self._ids
+
+    def label(self, name: str, point: Vec3, kind: str = "point") -> Label:
+        mm = self.camera.project(np.array([point], dtype=float))[0]
+        return Label(name, point, (float(mm[0]), float(mm[1])), kind)
+
+    def view_plan(self, name: str, level: str, paper: PaperSpec) -> ViewPlan:
+        if level not in LEVEL_ROLES:
+            raise ValueError(f"level must be one of {', '.join(LEVEL_ROLES)}, got {level!r}")
+        if level == "basic":
+            drafts = self.basic()
+            shown: list[list[tuple[str, str]]] = [[] for _ in drafts]
+        else:
+            drafts = self.guided()
+            roles = LEVEL_ROLES[level]
+            shown = [[(g, r) for g, r in ids if r in roles] for ids in self.guide_ids()]
+            if level == "master":  # a master sees no guides: no guides steps, the ratio words
+                keep = [i for i, d in enumerate(drafts) if d.kind != "guides"]
+                drafts = tuple(drafts[i] for i in keep)
+                shown = [shown[i] for i in keep]
+        first: dict[str, int] = {}
+        last: dict[str, int] = {}
+        for i, gs in enumerate(shown):
+            for gid, _ in gs:
+                first.setdefault(gid, i)
+                last[gid] = i
+        ordered = sorted(first, key=lambda g: (first[g], int(g[1:])))
+        mm: dict[str, tuple[tuple[float, float], tuple[float, float]]] = {}
+        for gid in ordered:
+            a, b = self._canon[gid]
+            p = self.camera.project(np.array([a, b], dtype=float))
+            mm[gid] = ((float(p[0, 0]), float(p[0, 1])), (float(p[1, 0]), float(p[1, 1])))
+        # the sheet prints the first box's footprint and height: the first scaffold step's
+        # guides where the level shows guides (DESIGN.md §2.6: a master sees none, and the
+        # control tutorial has none)
+        start = next((i for i, d in enumerate(drafts) if d.kind == "primitive" and d.strokes),
+                     None)
+        printed = (() if start is None or not LEVEL_ROLES[level]
+                   else _sheet_guides(_first_lines(drafts[start].strokes, self.camera),
+                                      self.camera))
+        steps = []
+        for i, (d, gs) in enumerate(zip(drafts, shown)):
+            guides = tuple(
+                Guide(gid, "new" if first[gid] == i else "reused", self._canon[gid][0],
+                      self._canon[gid][1], mm[gid][0], mm[gid][1], role)
+                for gid, role in gs)
+            alive = tuple(g for g in ordered if first[g] <= i <= last[g])
+            if i == start and printed:
+                guides = printed + guides
+                alive = tuple(g.id for g in printed) + alive
+            box = None
+            if d.part is not None and d.kind in ("primitive", "basic", "contour", "ellipse"):
+                box = (self.plan.primitive(d.part).box if level == "basic"
+                       else self.chosen[d.part].box)
+            members = list(dict.fromkeys([d.part] + [st.part for st in d.strokes])) \
+                if box is not None else []
+            stems = [stem(self.say(q)) for q in members]
+            named = tuple(self.label(n, p, "part") for q, base in zip(members, stems)
+                          for n, p in self.part_labels(q, box if q == d.part else (
+                              self.plan.primitive(q).box if level == "basic"
+                              else self.chosen[q].box), base is not None
+                              and stems.count(base) > 1))
+            if level == "master":
+                subs: tuple[str, ...] = ()
+                labels: tuple[Label, ...] = named
+                summary = d.summary
+                text = " ".join(x for x in (d.headline, summary) if x)
+            else:
+                subs, summary = d.substeps, ""
+                labels = tuple(self.label(n, p) for n, p in d.labels) + named
+                text = " ".join([d.headline] + [_t("step_text.number", n=k + 1, text=x)
+                                                 for k, x in enumerate(subs)])
+            steps.append(Step(i + 1, d.part, d.kind, text, d.eyeball, guides, d.strokes, alive,
+                              d.headline, subs, summary, labels))
+        shown = {st.part for st in steps if st.part is not None} | {
+            s.part for st in steps for s in st.strokes}
+        renamed = tuple((self.names[p].label, p) for p in sorted(shown)
+                        if not self.names[p].readable)
+        return ViewPlan(name, level, (float(paper.width_mm), float(paper.height_mm)), self.camera,
+                        self.vps, tuple(steps), renamed)
+
+
+def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
+    out: list[_Line] = []
+    for ln in lines:
+        if not any(_same_segment(ln.start, ln.end, o.start, o.end, tol) for o in out):
+            out.append(ln)
+    return out
+
+
+def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSettings) -> _Context:
+    adjusted = _adjusted_parts(plan)
+    tol = _tolerance(plan)
+    camera = _fit_camera(plan, view, paper, adjusted, tol)
+    vps = vanishing_points(camera)
+    chosen = plan.chosen()
+    corners = np.vstack([_box_corners(c.box) for c in chosen.values()])
+    bounds = (_vec(corners.min(axis=0)), _vec(corners.max(axis=0)))
+    ctx = _Context(plan=plan, camera=camera, settings=settings, vps=vps,
+                   words=_Words(camera, vps, bounds), tol=tol,
+                   by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
+                   originals={p.name: p for p in plan.model.parts},
+                   names=display_names([p.name for p in plan.model.parts],
+                                       label_format=templates.lookup("pages", "parts.label")))
+    return ctx

@@ -1,0 +1,198 @@
+"""Steps before guide ids: lines, drafts, units of construction, citations of earlier lines."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable, Sequence
+
+import numpy as np
+
+from ..instructions import Many, Pts, Spec, line_runs, spec, unique_specs
+from ..project import FirstBoxLines, first_box_lines
+from ..types import Camera, Guide, Stroke, Vec3
+from .geometry import _Line, _same_segment
+from .words import _cap, _join, _t, _the
+
+#: A step's text (headline and numbered sub-steps) longer than this many words is split: its
+#: constructions go to steps of their own (kind ``guides``) before the part's step.
+MAX_STEP_WORDS = 70
+
+
+#: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
+_CITES = ("reuse", "reuse_for", "edge", "edge_two")
+
+
+@dataclass(frozen=True, slots=True)
+class _Draft:
+    """A step before guide ids, statuses and level filtering."""
+
+    part: str | None
+    kind: str
+    eyeball: bool
+    lines: tuple[_Line, ...]
+    strokes: tuple[Stroke, ...]
+    headline: str
+    specs: tuple[Spec, ...] = ()  # sub-steps before letters (:mod:`h2s_print.instructions`)
+    summary: str = ""
+    substeps: tuple[str, ...] = ()  # the sub-steps with letters (:meth:`_Context.letter`)
+    labels: tuple[tuple[str, Vec3], ...] = ()
+    group: tuple[str, ...] = ()  # identical parts drawn in this step (their first is ``part``)
+
+
+def _first_lines(strokes: Sequence[Stroke], camera: Camera) -> FirstBoxLines | None:
+    """What the sheet prints of the box of the first step's ``strokes``
+    (:func:`h2s_print.project.first_box_lines`; the sheet reads the same)."""
+    return first_box_lines(camera, [p for s in strokes for p in s.points3d])
+
+
+def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
+    """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
+    (printed on the sheet too) when it has a height, then its edges and the paper corners."""
+    tall = lines is not None and lines.height is not None
+    return [spec("first_footprint"), *([spec("first_height")] if tall else []),
+            spec("first_edges"), spec("first_corners")]
+
+
+#: Guide ids of the sheet's printed lines on the first step (:func:`_sheet_guides`).
+SHEET_GUIDE = "sheet"
+
+
+def _sheet_guides(lines: FirstBoxLines | None, camera: Camera) -> tuple[Guide, ...]:
+    """The first step's guides that the calibrated sheet prints (role ``sheet``): the first
+    box's footprint, edge by edge, and its nearest upright edge.  The first box is drawn on
+    them, not by eye; they are new in that step (status ``new``) and shown only there (the
+    box's own edges cover them after).  Novice and apprentice only: a master sees no guides
+    (DESIGN.md §2.6)."""
+    if lines is None:
+        return ()
+    foot = lines.footprint
+    segs = [(foot[k], foot[(k + 1) % 4]) for k in range(4)]
+    if lines.height is not None:
+        segs.append(lines.height)
+    out = []
+    for k, (a, b) in enumerate(segs, start=1):
+        mm = camera.project(np.array([a, b], dtype=float))
+        out.append(Guide(f"{SHEET_GUIDE}{k}", "new", a, b, (float(mm[0, 0]), float(mm[0, 1])),
+                         (float(mm[1, 0]), float(mm[1, 1])), "sheet"))
+    return tuple(out)
+
+
+def _citations(groups: Sequence[Sequence[_Unit]], step: int,
+               side_of: Callable[[Any], str] | None = None) -> list[Spec]:
+    """"Use KL from step 2 for its back.": every line the units of ``groups`` (the guides
+    steps numbered from ``step``) draw, cited with the step that drew it (an earlier one for a
+    line reused) and, with ``side_of`` (an anchor's side of the part, "back", "middle (front
+    to back)"), what the lines place (a read-through: "Use MP from step 8" did not say MP is
+    the flash's back, and a reader who had just centred the lens on PQ centred the flash)."""
+    cited: dict[int, list[Pts]] = {}
+    sides: dict[int, list[str]] = {}
+    carried: list[int] = []
+    moved = _carried(groups)
+    for k, g in enumerate(groups):
+        for u in g:
+            for i, r in enumerate(u.results):
+                if tuple(r) not in moved:
+                    n = u.origin.get(i, step + k)
+                    cited.setdefault(n, []).append(Pts(r))
+                    if side_of is not None:
+                        sides.setdefault(n, []).extend(side_of(a) for a in u.anchors)
+            if any(x.key in _CARRIES for x in u.specs):
+                carried.append(step + k)
+    out = []
+    for n, lines in sorted(cited.items()):
+        said = list(dict.fromkeys(sides.get(n, ())))
+        out.append(spec("reuse_for", line=Many(tuple(lines)), step=n, sides=_join(said))
+                   if said else spec("reuse", line=Many(tuple(lines)), step=n))
+    return out + [spec("reuse_carried", step=n) for n in carried]
+
+
+def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
+    """The lines (end points, both ways round) that the units of ``groups`` carry to the
+    part.  Such a line is cited as carried ("Use the lines carried in step 9"), not also as
+    itself ("Use FG from step 2"): the part sits on the carried copy, which the step names
+    (:func:`_citations`, and the placing step's own citations)."""
+    out: set[tuple] = set()
+    for g in groups:
+        for u in g:
+            for x in u.specs:
+                if x.key in _CARRIES:
+                    for name, v in x.fields:
+                        if name in ("lines", "lines2"):
+                            for run in line_runs(v):
+                                out.update((tuple(run.points), tuple(run.points)[::-1]))
+    return out
+
+
+#: Sub-steps that carry lines to the part (the carry unit's).
+_CARRIES = ("carry", "carry_two", "carry_turn", "extend_to")
+
+
+def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:
+    """Do two units of construction share a point (a line's end, a result's end)?  Then one
+    may use what the other draws, and their order stays."""
+    def points(u: _Unit) -> np.ndarray:
+        pts = [p for ln in u.lines for p in (ln.start, ln.end)] + [p for r in u.results for p in r]
+        return np.asarray(pts, dtype=float).reshape(-1, 3)
+
+    pa, pb = points(a), points(b)
+    return bool(len(pa) and len(pb)
+                and (np.abs(pa[:, None, :] - pb[None, :, :]).max(axis=2) <= tol).any())
+
+
+@dataclass
+class _Unit:
+    """The constructions of one primitive step on one parent face: sub-steps, lines, results."""
+
+    parent: str
+    specs: list[Spec] = field(default_factory=list)
+    lines: list[_Line] = field(default_factory=list)
+    results: list[tuple[Vec3, Vec3]] = field(default_factory=list)
+    room: bool = False  # a construction that needs room on the face (not only edges)
+    anchors: list[Any] = field(default_factory=list)
+    origin: dict[int, int] = field(default_factory=dict)  # result index -> step that drew it
+
+
+def _merged_outlines(prev: _Draft, d: _Draft, say: Any) -> _Draft:
+    """Two outline drafts as one step: small ellipses first (one sentence for all the parts'
+    ellipses sketched by eye), then one tracing sub-step; named after all its parts."""
+    members = prev.group + d.group
+    both = list(prev.specs) + list(d.specs)
+    small = [x for x in both if x.key in ("ellipse_by_eye_part", "ellipse_by_eye_parts")]
+    if len(small) > 1:
+        names = [n for x in small for n in (
+            [dict(x.fields)["part"]] if x.key == "ellipse_by_eye_part"
+            else list(dict(x.fields)["parts"]))]
+        one = spec("ellipse_by_eye_parts", parts=tuple(names),
+                   the_parents=_join([_the(n) for n in names]))
+        both = [one] + [x for x in both if x not in small]
+    both = ([x for x in both if not x.key.startswith("contour")]
+            + [x for x in both if x.key.startswith("contour")][:1])
+    return replace(prev, strokes=prev.strokes + d.strokes, lines=prev.lines + d.lines,
+                   specs=tuple(unique_specs(both)), eyeball=prev.eyeball or d.eyeball,
+                   group=members,
+                   headline=_t("headline.contour_many", Parts=_cap(_join([say(q)
+                                                                        for q in members]))))
+
+
+#: The lines a sub-step draws, by template key (fields holding two points each).
+_DRAWS: dict[str, tuple[str, ...]] = {
+    "diagonals": ("first", "second"), "half_diagonals": ("first", "second"),
+    "through": ("line",), "cross": ("line",), "from": ("line",),
+    "ellipse_diagonals": ("first", "second"), "ellipse_diagonals_plate": ("first", "second"),
+}
+
+
+def _draws_known(s: Spec, known: Sequence[tuple[Vec3, Vec3]], tol: float) -> bool:
+    """Does sub-step ``s`` only draw a line already on the sheet (one of ``known``)?"""
+    if s.key not in ("cross", "through", "from", "edge"):
+        return False
+    line = dict(s.fields).get("line")
+    if not isinstance(line, Pts) or len(line.points) != 2:
+        return False
+    return any(_same_segment(line.points[0], line.points[1], p, q, tol) for p, q in known)
+
+
+def _carry_key(item: tuple[tuple[int, int | None], Any]) -> tuple[int, int]:
+    """Sort key of a carry group ``((axis, turn or None), runs)``."""
+    (axis, turn), _ = item
+    return (axis, -1 if turn is None else turn)

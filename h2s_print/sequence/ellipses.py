@@ -1,0 +1,238 @@
+"""Ellipse steps and outline steps (round parts' ends, the parts' outlines packed into steps)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from ..constructions import Face, ellipse_on_face
+from ..instructions import Many, Pts, Spec, spec
+from ..names import natural_key
+from ..occlude import Solid, box_solid, cylinder_solid, hidden, polyhedron, runs
+from ..types import Box, Part, Stroke
+from .drafts import MAX_STEP_WORDS, _Draft, _merged_outlines
+from .geometry import (
+    _end_faces,
+    _front_facing,
+    _Line,
+    _polygon_area_mm2,
+    _round,
+    _solid,
+    _stroke,
+    _too_small,
+)
+from .hiding import _front_to_back
+from .words import _cap, _join, _t, _the
+
+
+class _Ellipses:
+    """Ellipse and outline drafts, mixed into
+    :class:`~h2s_print.sequence.context._Context` (whose fields these methods read)."""
+
+    def solids(self, basic: bool) -> list[tuple[str, Solid]]:
+        """The drawn primitives as solids (:mod:`h2s_print.occlude`), by part: the guided
+        tutorial's kept parts in their selected boxes, or (``basic``) the visible parts in
+        their fitted ones."""
+        key = "basic" if basic else "guided"
+        if key not in self._solids:
+            if basic:
+                names = sorted(self.visible(self.originals))
+            else:
+                names = sorted(self.guided_parts()[1])
+            out = []
+            for name in names:
+                prim = self.plan.primitive(name)
+                box = prim.box if basic else self.chosen[name].box
+                if prim.type == "cylinder" and prim.axis is not None:
+                    out.append((name, cylinder_solid(box, prim.axis)))
+                elif prim.type == "frustum":
+                    pts, faces, _ = _solid(prim, box)
+                    out.append((name, polyhedron(pts, faces)))
+                else:  # a cuboid, a plane (its slab), a custom part: its box
+                    out.append((name, box_solid(box)))
+            self._solids[key] = out
+        return self._solids[key]
+
+    def ellipse_strokes(self, part: str, fe: Any, basic: bool) -> list[Stroke]:
+        """The ellipse ``fe`` of ``part`` as strokes, ``ellipse`` where the drawn primitives
+        leave it seen and ``ellipse_hidden`` where they hide it (:func:`occlude.hidden`; a
+        round plate's ellipse lies inside its own slab, which does not count)."""
+        flat = self.plan.primitive(part).type == "plane"
+        solids = [sd for name, sd in self.solids(basic) if not (flat and name == part)]
+        pts = np.vstack([fe.points3d, fe.points3d[:1]])
+        mask = hidden(pts, self.camera.position, solids)
+        return [_stroke("ellipse_hidden" if off else "ellipse", part, run, self.camera)
+                for off, run in runs(pts, mask)]
+
+    def ellipse_drafts(self, part: str, box: Box, basic: bool,
+                       copies: Sequence[tuple[str, Box]] = ()) -> list[_Draft]:
+        """The ellipse steps of a round part (and of its identical ``copies``).
+
+        A round plate has one ellipse, a cylinder and a round frustum two, each its own step
+        (one ellipse a page): the ellipse of the end face turned toward the camera (the *near*
+        one) is constructed in that face (diagonals for its centre, lines through the centre
+        toward the vanishing points, the ellipse through the four points where they meet the
+        edges), its points lettered.  A cylinder's far end face, which the view shows from
+        behind, is never constructed on: lines carried from the four points toward the axis'
+        vanishing point meet its edges where its ellipse touches them.  A round frustum's
+        (a bowl's) ends differ in size, so nothing carries: its far end rectangle, which its
+        scaffold draws, gets the same construction as the near one (or, under the eyeball
+        rule, its ellipse by eye).  Copies get the same lines and ellipses, said once.
+        The construction is shown on the copy whose near face the picture shows largest; that
+        face under the eyeball rule (``k = 4``), or ``basic``, makes one step "by eye" for both
+        ellipses (it joins the part's outline step in a guided tutorial).
+        """
+        prim = self.plan.primitive(part)
+        axis = prim.axis
+        members = [(part, box), *copies]
+        names = sorted((self.say(q) for q, _ in members), key=natural_key)
+        who = _cap(_join(names))
+        # per copy: its near ellipse and (a cylinder, a round frustum) its far one
+        ends: list[tuple[str, Any, Any]] = []
+        for q, b in members:
+            if prim.type == "plane":  # a round plate: its ellipse in the rectangle drawn
+                mid = 0.5 * (b[0][axis] + b[1][axis])
+                lo, hi = list(b[0]), list(b[1])
+                lo[axis] = hi[axis] = mid
+                ends.append((q, ellipse_on_face(Face((tuple(lo), tuple(hi)), axis, "lo"),
+                                                self.camera), None))
+                continue
+            faces = sorted(_end_faces(prim, b),
+                           key=lambda f: (not _front_facing(f, self.camera), f.end))
+            ends.append((q, ellipse_on_face(faces[0], self.camera),
+                         ellipse_on_face(faces[1], self.camera)))
+        one = not copies
+        # the construction is shown on the copy whose near face the picture shows largest
+        show = max(range(len(ends)), key=lambda k: (
+            _polygon_area_mm2(self.camera, ends[k][1].face.corners), -k))
+        ends.insert(0, ends.pop(show))
+        near = [(q, fe) for q, fe, _ in ends]
+        far = [(q, fe, be) for q, fe, be in ends if be is not None]
+        if basic or _too_small(self.camera, near[0][1].face.corners, 4,
+                               self.settings.eyeball_mm2):
+            head = _t("headline.ellipse_eyeball" if one else "headline.ellipse_many_eyeball",
+                      Part=_cap(self.say(part)), Parts=who)
+            strokes = [st for q, fe in near for st in self.ellipse_strokes(q, fe, basic)]
+            strokes += [st for q, _, be in far for st in self.ellipse_strokes(q, be, basic)]
+            return [_Draft(part, "ellipse", True, (), tuple(strokes), head,
+                           self.lettered([spec("ellipse_by_eye")]))]
+        same = [spec("ellipse_copies")] if copies else []
+        key = "ellipse_plate" if not far else "ellipse_end"
+        strokes = tuple(st for q, e in near for st in self.ellipse_strokes(q, e, basic))
+        out = [_Draft(part, "ellipse", False,
+                      tuple(_Line(ln.role, ln.start, ln.end) for _, e in near for ln in e.lines),
+                      strokes,
+                      _t(f"headline.{key}" + ("" if one else "_many"),
+                         Part=_cap(self.say(part)), Parts=who,
+                         face=self.words.face(axis, near[0][1].face.end)),
+                      self.lettered(self.ellipse_specs(near[0][0], near[0][1], bool(far),
+                                                       strokes) + same))]
+        if not far:
+            return out
+        head = _t("headline.ellipse_end" + ("" if one else "_many"), Part=_cap(self.say(part)),
+                  Parts=who, face=self.words.face(axis, far[0][2].face.end))
+        strokes = tuple(st for q, _, be in far for st in self.ellipse_strokes(q, be, basic))
+        if prim.type == "frustum":  # its own construction on the far end rectangle
+            be = far[0][2]
+            if _too_small(self.camera, be.face.corners, 4, self.settings.eyeball_mm2):
+                out.append(_Draft(part, "ellipse", True, (), strokes, head,
+                                  self.lettered([spec("ellipse_by_eye_end")])))
+            else:
+                out.append(_Draft(
+                    part, "ellipse", False,
+                    tuple(_Line(ln.role, ln.start, ln.end) for _, _, e in far for ln in e.lines),
+                    strokes, head,
+                    self.lettered(self.ellipse_specs(far[0][0], be, True, strokes) + same)))
+            return out
+        fe, be = near[0][1], far[0][2]
+        around = Many(tuple(Pts((x,)) for x in fe.touch))
+        # the carried points where they meet the far face's edges, lettered
+        reached = Many(tuple(Pts((x,)) for x in be.touch))
+        out.append(_Draft(
+            part, "ellipse", False,
+            tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
+            strokes, head,
+            self.lettered([spec("ellipse_carry", points=around, new=reached,
+                                vp=self.words.vp(axis)), *same])))
+        return out
+
+    def ellipse_specs(self, part: str, fe: Any, solid: bool,
+                      strokes: Sequence[Stroke]) -> list[Spec]:
+        """The sub-steps constructing ellipse ``fe`` of ``part`` in its face: diagonals for the
+        centre, the lines through it toward the vanishing points, the ellipse through the four
+        points (``dotted where hidden`` when ``strokes`` has hidden runs)."""
+        u, v = fe.face.in_axes
+        a, b, c, d = fe.face.corners
+        t = fe.touch  # the middles of the edges: (u hi, v hi, u lo, v lo), round the face
+        around = Many(tuple(Pts((x,)) for x in t))
+        hidden_runs = any(st.kind == "ellipse_hidden" for st in strokes)
+        return [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
+                     point=Pts((fe.centre,)), part=self.say(part),
+                     face=self.words.face(fe.face.normal, fe.face.end))
+                if solid else  # a plate is drawn as one rectangle
+                spec("ellipse_diagonals_plate", first=Pts((a, c)), second=Pts((b, d)),
+                     point=Pts((fe.centre,)), part=self.say(part)),
+                spec("through", point=Pts((fe.centre,)), line=Pts((t[2], t[0])),
+                     vp=self.words.vp(u)),
+                spec("through", point=Pts((fe.centre,)), line=Pts((t[3], t[1])),
+                     vp=self.words.vp(v)),
+                spec("ellipse_draw_hidden" if hidden_runs else "ellipse_draw", points=around)]
+
+    def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
+        """Contour steps, front to back (:func:`_front_to_back`); each part's lines are its
+        lines in the finished drawing, so the steps add up to exactly the finished drawing."""
+        finals = self.finals(parts)
+        order = _front_to_back([parts[p] for p in order], self.camera, self.settings)
+        out: list[_Draft] = []
+        for part in order:
+            if not finals[part]:
+                continue
+            key = "contour_first" if not out else "contour_next"
+            out.append(_Draft(part, "contour", False, (), finals[part],
+                              _t("headline.contour", Part=_cap(self.say(part))),
+                              (spec(key),)))
+        return out
+
+    def pack_outlines(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
+        """Consecutive outline drafts packed into steps while the text stays within
+        :data:`MAX_STEP_WORDS`: a drawing teacher does not give each small part a page of its
+        own (before stop 24: two to a step, whatever their length; the roller's high-right
+        view took four outline steps for seven parts)."""
+        out: list[_Draft] = []
+        for d in drafts:
+            if out and out[-1].kind == d.kind:
+                both = _merged_outlines(out[-1], d, self.say)
+                if self.step_words(self.round_sides(both, lead).specs,
+                                   both.headline) <= MAX_STEP_WORDS:
+                    out[-1] = both
+                    continue
+            out.append(d)
+        return [self.round_sides(d, lead) for d in out]
+
+    def round_sides(self, d: _Draft, lead: Mapping[str, str]) -> _Draft:
+        """An outline draft with the sentence joining its round parts' ellipses: the two
+        lines touching both, which no scaffold line gives (the read-through: "trace" did not
+        say to draw them); one sentence for the step's cylinders, after their ellipses,
+        before the tracing, and one for its tapered round parts, whose sides follow the
+        picture (a read-through: the mixer's bowl curves, "two straight lines" did not)."""
+        rounds = [q for q in d.group if _round(self.plan.primitive(q))
+                  and self.plan.primitive(q).type == "cylinder"]
+        tapers = [q for q in d.group if _round(self.plan.primitive(q))
+                  and self.plan.primitive(q).type == "frustum"]
+        joins: list[Spec] = []
+        if rounds:
+            leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
+            if len(leads) == 1 and len(rounds) > 1:  # one part and its copies
+                joins.append(spec("round_sides_copies", the_parents=_the(self.say(leads[0]))))
+            else:
+                joins.append(spec("round_sides_many" if len(rounds) > 1 else "round_sides",
+                                  the_parents=_join([_the(self.say(q)) for q in rounds])))
+        if tapers:  # a bowl's sides curve: "two straight lines" contradicted its picture
+            joins.append(spec("round_sides_taper",
+                              the_parents=_join([_the(self.say(q)) for q in tapers])))
+        if not joins:
+            return d
+        at = next(i for i, x in enumerate(d.specs) if x.key.startswith("contour"))
+        return replace(d, specs=d.specs[:at] + tuple(joins) + d.specs[at:])

@@ -1,0 +1,361 @@
+"""Geometry of the steps: boxes, faces seen from the camera, scaffolds, anchor constructions."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..constructions import Face, align, construct
+from ..instructions import Pts
+from ..occlude import outward_normals
+from ..ratios import entry_for
+from ..types import Box, Camera, Part, Stroke, Vec3
+
+#: Closed contour loops smaller than this on the sheet (largest side of their extent, mm) are
+#: dropped from the contour steps and the final drawing: a merged screw head draws a dot.
+TINY_LOOP_MM = 1.0
+
+
+#: A face whose projected width on the sheet (its projected area over its longest projected
+#: side, mm) is under this is too thin for guide lines (seen almost edge-on): its
+#: constructions are eyeballed whatever ``settings.eyeball_mm2`` says.
+MIN_FACE_WIDTH_MM = 3.0
+
+
+def _vec(p: Any) -> Vec3:
+    return (float(p[0]), float(p[1]), float(p[2]))
+
+
+def _box_corners(box: Box) -> np.ndarray:
+    lo, hi = box
+    return np.array([[(lo, hi)[i][0], (lo, hi)[j][1], (lo, hi)[k][2]]
+                     for i in (0, 1) for j in (0, 1) for k in (0, 1)], dtype=float)
+
+
+def _extent(box: Box, axis: int) -> float:
+    return box[1][axis] - box[0][axis]
+
+
+def _map_points(points: np.ndarray, from_box: Box, to_box: Box) -> np.ndarray:
+    """The per-axis affine change of :func:`h2s_print.contours.adjust_part`, on points."""
+    out = np.empty_like(points)
+    for ax in range(3):
+        flo, fhi, tlo, thi = from_box[0][ax], from_box[1][ax], to_box[0][ax], to_box[1][ax]
+        if fhi - flo > 0.0:
+            t = (points[:, ax] - flo) / (fhi - flo)
+            out[:, ax] = (1.0 - t) * tlo + t * thi
+        else:
+            out[:, ax] = points[:, ax] - flo + tlo
+    return out
+
+
+def _same_segment(a: Any, b: Any, p: Any, q: Any, tol: float) -> bool:
+    """True when segment ``a-b`` is segment ``p-q`` up to endpoint order, within ``tol``
+    (per coordinate; plain floats: called some 10 000 times a view)."""
+    def near(x: Any, y: Any) -> bool:
+        return (abs(float(x[0]) - float(y[0])) <= tol and abs(float(x[1]) - float(y[1])) <= tol
+                and abs(float(x[2]) - float(y[2])) <= tol)
+
+    return (near(a, p) and near(b, q)) or (near(a, q) and near(b, p))
+
+
+def _tiny_loop(mm: np.ndarray) -> bool:
+    """True for a closed polyline whose extent on the sheet is under ``TINY_LOOP_MM``."""
+    if len(mm) < 3 or float(np.abs(mm[0] - mm[-1]).max()) > 1e-6 * max(1.0, float(np.abs(mm).max())):
+        return False
+    ext = mm.max(axis=0) - mm.min(axis=0)
+    return float(max(ext[0], ext[1])) < TINY_LOOP_MM
+
+
+def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
+    """Area on the sheet (mm²) of a planar polygon's projection (shoelace)."""
+    p = camera.project(np.asarray(corners, dtype=float))
+    x, y = p[:, 0], p[:, 1]
+    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+
+
+def _too_small(camera: Camera, corners: Sequence[Vec3], k: int, eyeball_mm2: float) -> bool:
+    """The eyeball rule for one face with ``k`` lines on it (module docstring): projected area
+    over ``k`` under ``eyeball_mm2`` mm², or projected width (area over the longest projected
+    side) under ``MIN_FACE_WIDTH_MM``."""
+    p = camera.project(np.asarray(corners, dtype=float))
+    x, y = p[:, 0], p[:, 1]
+    area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+    longest = float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
+    return area / k < eyeball_mm2 or not area >= MIN_FACE_WIDTH_MM * longest
+
+
+def _front_facing(face: Face, camera: Camera) -> bool:
+    """True when the face's outer side looks toward the camera position."""
+    sign = 1.0 if face.end == "hi" else -1.0
+    return sign * (camera.position[face.normal] - face.coord) > 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class _Line:
+    """A guide line before ids: role and 3D end points."""
+
+    role: str
+    start: Vec3
+    end: Vec3
+
+
+#: A line drawn "along" an edge on the sheet: both its ends within this of the edge's line, mm
+#: (about a pencil line's width: the mixer's HJ lies 0.37 mm beside the column's edge).
+ALONG_MM = 0.5
+
+
+def _mostly_on(a: np.ndarray, b: np.ndarray, p: np.ndarray, q: np.ndarray, tol: float) -> bool:
+    """Does segment ``a-b`` lie on the line of segment ``p-q`` (both ends within ``tol``) and
+    overlap ``p-q`` over more than half its own length?"""
+    d = q - p
+    n = float(np.linalg.norm(d))
+    length = float(np.linalg.norm(b - a))
+    if n <= tol or length <= tol:
+        return False
+    u = d / n
+    for x in (a, b):
+        off = x - p
+        if float(np.linalg.norm(off - (off @ u) * u)) > tol:
+            return False
+    ta, tb = sorted((float((a - p) @ u), float((b - p) @ u)))
+    return min(tb, n) - max(ta, 0.0) > 0.5 * length
+
+
+def _stroke(kind: str, part: str, points: np.ndarray, camera: Camera) -> Stroke:
+    pts = np.asarray(points, dtype=float).reshape(-1, 3)
+    mm = camera.project(pts)
+    return Stroke(kind, part, tuple(_vec(p) for p in pts),
+                  tuple((float(q[0]), float(q[1])) for q in mm))
+
+
+def _contour_strokes(cs: Any, camera: Camera) -> tuple[Stroke, ...]:
+    """A contour set's polylines as strokes, without tiny closed loops (``TINY_LOOP_MM``)."""
+    out = []
+    for pl in cs.polylines3d:
+        if len(pl) < 2:
+            continue
+        st = _stroke("contour", cs.part, np.asarray(pl, dtype=float), camera)
+        if not _tiny_loop(np.asarray(st.points_mm, dtype=float)):
+            out.append(st)
+    return tuple(out)
+
+
+def _solid(primitive: Any, box: Box) -> tuple[np.ndarray, list[tuple[int, ...]], bool]:
+    """Vertices, faces (index tuples) and "flat" flag of the scaffold of ``primitive`` drawn in
+    ``box`` (the fitted box mapped to ``box`` per axis for frusta)."""
+    kind, axis = primitive.type, primitive.axis
+    if kind == "plane" and axis is not None:
+        u, v = (a for a in range(3) if a != axis)
+        mid = 0.5 * (box[0][axis] + box[1][axis])
+        quad = []
+        for cu, cv in ((0, 0), (1, 0), (1, 1), (0, 1)):
+            p = [0.0, 0.0, 0.0]
+            p[axis] = mid
+            p[u] = box[cu][u]
+            p[v] = box[cv][v]
+            quad.append(p)
+        return np.array(quad, dtype=float), [(0, 1, 2, 3)], True
+    detail = primitive.detail or {}
+    if kind == "frustum" and axis is not None and {"lo_half", "hi_half", "centre"} <= set(detail):
+        u, v = (a for a in range(3) if a != axis)
+        fb = primitive.box
+        verts = []
+        for end, half in ((0, detail["lo_half"]), (1, detail["hi_half"])):
+            for su, sv in ((-1, -1), (1, -1), (1, 1), (-1, 1)):
+                p = [0.0, 0.0, 0.0]
+                p[axis] = fb[end][axis]
+                p[u] = float(detail["centre"][0]) + su * float(half[0])
+                p[v] = float(detail["centre"][1]) + sv * float(half[1])
+                verts.append(p)
+        pts = _map_points(np.array(verts, dtype=float), fb, box)
+        faces = [(0, 1, 2, 3), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+        return pts, faces, False
+    # box: corner index i*4 + j*2 + k for (x, y, z) ends (i, j, k)
+    pts = _box_corners(box)
+    faces = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
+    return pts, faces, False
+
+
+def _scaffold(part: str, primitive: Any, box: Box, camera: Camera, tol: float) -> tuple[Stroke, ...]:
+    """The primitive's edges as strokes: ``scaffold`` when an adjacent face is front-facing,
+    else ``scaffold_hidden`` (see the module docstring)."""
+    pts, faces, flat = _solid(primitive, box)
+    cam = np.asarray(camera.position, dtype=float)
+    front = [bool(np.dot(n, cam - fc) > 0) and float(np.linalg.norm(n)) > 0
+             for n, fc in outward_normals(pts, faces)]
+    edges: dict[tuple[int, int], bool] = {}
+    for f, fr in zip(faces, front):
+        for i in range(len(f)):
+            e = tuple(sorted((f[i], f[(i + 1) % len(f)])))
+            edges[e] = edges.get(e, False) or fr or flat
+    strokes: list[Stroke] = []
+    seen: list[tuple[np.ndarray, np.ndarray]] = []
+    for (i, j), visible in sorted(edges.items()):
+        a, b = pts[i], pts[j]
+        if float(np.linalg.norm(b - a)) <= tol:
+            continue
+        if any(_same_segment(a, b, p, q, tol) for p, q in seen):
+            continue
+        seen.append((a, b))
+        strokes.append(_stroke("scaffold" if visible else "scaffold_hidden", part,
+                               np.array([a, b]), camera))
+    # visible edges first, each group in a stable order
+    return tuple(sorted(strokes, key=lambda s: s.kind != "scaffold"))
+
+
+def _anchor_face(anchor: Any, pbox: Box, camera: Camera) -> Face:
+    """The parent face an anchor's construction is drawn on (module docstring).
+
+    A face the view shows from behind is never used: the anchor's named face, else its twin
+    across the box (the same ratio line lies on both), else the view's choice below.
+    """
+    if anchor.face_side is not None:
+        named = Face(pbox, anchor.face_normal, anchor.face_side)
+        if _front_facing(named, camera):
+            return named
+        twin = Face(pbox, anchor.face_normal, "hi" if anchor.face_side == "lo" else "lo")
+        if _front_facing(twin, camera):
+            return twin
+    best: tuple[tuple[bool, float], Face] | None = None
+    biggest = max(_extent(pbox, a) for a in range(3))
+    for n in range(3):
+        if n == anchor.axis:
+            continue
+        other = 3 - n - anchor.axis
+        if _extent(pbox, other) <= 1e-12 * biggest or _extent(pbox, anchor.axis) <= 0.0:
+            continue
+        for end in ("lo", "hi"):
+            f = Face(pbox, n, end)
+            key = (_front_facing(f, camera), _polygon_area_mm2(camera, f.corners))
+            if best is None or key > best[0]:
+                best = (key, f)
+    if best is None:  # degenerate parent: fall back to the candidate's own choice
+        return Face(pbox, anchor.face_normal, "lo")
+    return best[1]
+
+
+def _carry_lines(con: Any, face: Face, child: Box, tol: float) -> list[_Line]:
+    """Alignment lines, in the plane of the anchored end, from the construction's result line
+    to the child's end face (module docstring)."""
+    a, n = con.axis, face.normal
+    o = 3 - a - n
+    c = face.coord
+    plo, phi = face.box[0][o], face.box[1][o]
+    clo, chi = child[0][o], child[1][o]
+
+    def pt(nv: float, ov: float) -> Vec3:
+        p = [0.0, 0.0, 0.0]
+        p[a], p[n], p[o] = con.coord, nv, ov
+        return (p[0], p[1], p[2])
+
+    segs: list[tuple[Vec3, Vec3]] = []
+    if child[0][n] - tol <= c <= child[1][n] + tol:
+        if chi > phi + tol:
+            segs.append((pt(c, phi), pt(c, chi)))
+        if clo < plo - tol:
+            segs.append((pt(c, plo), pt(c, clo)))
+    else:
+        m = child[0][n] if c < child[0][n] else child[1][n]
+        centre = 0.5 * (clo + chi)
+        ostar = plo if abs(plo - centre) < abs(phi - centre) else phi
+        segs.append((pt(c, ostar), pt(m, ostar)))
+        if ostar > chi + tol:
+            segs.append((pt(m, ostar), pt(m, chi)))
+        elif ostar < clo - tol:
+            segs.append((pt(m, ostar), pt(m, clo)))
+    out = []
+    for s, e in segs:
+        if max(abs(s[i] - e[i]) for i in range(3)) <= tol:
+            continue
+        ln = align(s, e)
+        out.append(_Line("vanishing", ln.start, ln.end))
+    return out
+
+
+def _anchor_lines(anchor: Any, pbox: Box, cbox: Box, camera: Camera,
+                  tol: float) -> tuple[Face, Any, list[_Line], list[_Line]]:
+    """An anchor's construction face, its construction, its lines and the carrying lines."""
+    face = _anchor_face(anchor, pbox, camera)
+    con = construct(face, anchor.axis, anchor.ratio)
+    own = [_Line(ln.role, ln.start, ln.end) for ln in con.lines]
+    return face, con, own, _carry_lines(con, face, cbox, tol)
+
+
+def _on_face(anchor: Any, pbox: Box, cbox: Box, tol: float) -> bool:
+    """An end aligned with a parent's face (ratio 0 or 1) whose face overlaps that face's
+    rectangle (an area, not an edge): the face already drawn is the guide ("Its back lies on
+    the body's front face"), no line needs carrying."""
+    if anchor.end == "mid" or entry_for(anchor.ratio).name not in ("start", "end"):
+        return False
+    return all(cbox[0][b] < pbox[1][b] - tol and pbox[0][b] < cbox[1][b] - tol
+               for b in range(3) if b != anchor.axis)
+
+
+def _round(prim: Any) -> bool:
+    """Does the part get ellipses: a cylinder, or a plane or frustum that is round (a disc, a
+    bowl: ``detail["round"]``, :mod:`h2s_print.fit`)?"""
+    if prim.axis is None:
+        return False
+    return prim.type == "cylinder" or (prim.type in ("plane", "frustum")
+                                       and bool(prim.detail.get("round")))
+
+
+def _end_faces(prim: Any, box: Box) -> tuple[Face, Face]:
+    """The two end faces normal to the axis of a cylinder or frustum drawn in ``box``: the
+    box's faces, or a frustum's end rectangles (its scaffold's caps, :func:`_solid`) as flat
+    faces, ``lo`` then ``hi``."""
+    axis = prim.axis
+    if prim.type != "frustum":
+        return Face(box, axis, "lo"), Face(box, axis, "hi")
+    pts, _, _ = _solid(prim, box)
+    out = []
+    for end, quad in (("lo", pts[:4]), ("hi", pts[4:])):
+        out.append(Face((tuple(map(float, quad.min(axis=0))), tuple(map(float, quad.max(axis=0)))),
+                        axis, end))
+    return out[0], out[1]
+
+
+def _mesh_area(part: Part) -> float:
+    v = np.asarray(part.vertices, dtype=float)
+    f = np.asarray(part.faces, dtype=np.int64)
+    if not len(f):
+        return 0.0
+    return float(0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]),
+                                      axis=1).sum())
+
+
+def _moving_axis(line: _Line) -> int:
+    """The model axis a carrying line runs along."""
+    d = np.abs(np.asarray(line.end, dtype=float) - np.asarray(line.start, dtype=float))
+    return int(np.argmax(d))
+
+
+def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
+    """Is the point ``p`` on the infinite line through ``a`` and ``b`` (within ``tol``)?"""
+    a_, d = np.asarray(a, dtype=float), np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    w = np.asarray(p, dtype=float) - a_
+    n = float(np.linalg.norm(d))
+    return n > 0.0 and float(np.linalg.norm(np.cross(d, w))) <= tol * n
+
+
+def _runs_along(run: Pts, axis: int) -> bool:
+    """Does the line ``run`` (two points) run along model axis ``axis``?"""
+    d = np.asarray(run.points[1], dtype=float) - np.asarray(run.points[0], dtype=float)
+    return bool(abs(d[axis]) >= (1.0 - 1e-9) * float(np.linalg.norm(d)) > 0.0)
+
+
+def _touching(part: str, chosen: dict[str, Any], tol: float) -> list[str]:
+    """Other parts whose selected box touches or overlaps ``part``'s (closed boxes, within
+    ``tol``): the parts a free part rests on or sits in."""
+    lo, hi = (np.asarray(x, dtype=float) for x in chosen[part].box)
+    out = []
+    for other, c in sorted(chosen.items()):
+        if other == part:
+            continue
+        olo, ohi = (np.asarray(x, dtype=float) for x in c.box)
+        if all(lo[a] <= ohi[a] + tol and olo[a] <= hi[a] + tol for a in range(3)):
+            out.append(other)
+    return out

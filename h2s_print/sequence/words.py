@@ -1,0 +1,160 @@
+"""The words of a view's texts: templates, face and side names, vanishing points, lists."""
+
+from __future__ import annotations
+
+from typing import Any, Iterable, Sequence
+
+import numpy as np
+
+from .. import templates
+from ..constructions import Face
+from ..instructions import Spec
+from ..project import vp_side
+from ..ratios import entry_for
+from ..types import Box, Camera, VanishingPoint
+
+_XYZ = "xyz"
+
+
+def _t(key: str, **fields: Any) -> str:
+    for k in ("part", "parent", "other"):  # names are identifiers: "shutter_button" -> "shutter button"
+        if isinstance(fields.get(k), str):
+            fields[k] = fields[k].replace("_", " ")
+            fields.setdefault(f"the_{k}", _the(fields[k]))
+    return templates.text("steps", key, **fields)
+
+
+_the = templates.the
+
+
+def _raw(key: str) -> Any:
+    return templates.lookup("steps", key)
+
+
+class _Words:
+    """Names of faces, sides, dimensions and vanishing points for this view's texts.
+
+    Vanishing points: :func:`h2s_print.project.vp_side` seen from the sheet's centre (the rule
+    the calibrated sheet's labels use, :func:`h2s_print.layout.vp_names`).  The x faces and
+    sides are named by the picture: the one of ``x_lo`` / ``x_hi`` whose face centre (of the
+    model's bounding box) projects further left is "left" (``swap_x`` when that is ``x_hi``).
+    """
+
+    def __init__(self, camera: Camera, vps: Sequence[VanishingPoint], bounds: Box):
+        edges = _raw("edges")
+        centre_mm = (camera.paper_mm[0] / 2.0, camera.paper_mm[1] / 2.0)
+        keys: dict[int, str] = {}
+        for vp in vps:
+            side = vp_side(vp, centre_mm)
+            if side is not None:
+                keys[vp.axis] = side
+        self.vps: dict[int, str] = {}
+        for vp in vps:
+            if vp.axis not in keys:
+                self.vps[vp.axis] = (_t("vp.vertical") if vp.axis == 2
+                                     else _t("vp.infinite", edges=edges[vp.axis]))
+                continue
+            key = keys[vp.axis]
+            clash = sum(1 for k in keys.values() if k == key) > 1
+            self.vps[vp.axis] = (_t(f"vp.{key}_of", edges=edges[vp.axis]) if clash
+                                 else _t(f"vp.{key}"))
+        xs = [Face(bounds, 0, end) for end in ("lo", "hi")]
+        cx = camera.project(np.array([np.mean(np.asarray(f.corners, dtype=float), axis=0)
+                                      for f in xs]))[:, 0]
+        self.swap_x = bool(cx[1] < cx[0])
+
+    def vp(self, axis: int) -> str:
+        return self.vps[axis]
+
+    def _key(self, axis: int, end: str) -> str:
+        if axis == 0 and self.swap_x and end != "mid":
+            end = "hi" if end == "lo" else "lo"
+        return f"{_XYZ[axis]}_{end}"
+
+    def face(self, axis: int, end: str) -> str:
+        return _raw("faces")[self._key(axis, end)]
+
+    def side(self, axis: int, end: str) -> str:
+        return _raw("sides")[self._key(axis, end)]
+
+    @staticmethod
+    def dim(axis: int) -> str:
+        return _raw("dims")[axis]
+
+    @staticmethod
+    def shape(kind: str) -> str:
+        shapes = _raw("shapes")
+        return shapes.get(kind, shapes["cuboid"])
+
+
+def _join(items: Sequence[str]) -> str:
+    items = list(items)
+    if len(items) <= 1:
+        return "".join(items)
+    return _raw("join").join(items[:-1]) + _raw("join_last") + items[-1]
+
+
+def _unique(items: Iterable[str]) -> list[str]:
+    out: list[str] = []
+    for s in items:
+        if s not in out:
+            out.append(s)
+    return out
+
+
+def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
+    axis, r = anchor.axis, anchor.ratio
+    side = words.side(axis, anchor.end)
+    if anchor.face_normal == axis:
+        return _t("primitive.position.flat", side=side, parent=parent)
+    entry = entry_for(r)
+    ab = _raw("about") if about else ""
+    if entry.name in ("start", "end"):
+        return _t("primitive.position.align", side=side, parent=parent,
+                  pside=words.side(axis, "lo" if r < 0.5 else "hi"))
+    if not entry.extrusion:
+        return _t("primitive.position.inside", side=side, about=ab,
+                  fraction=_raw("primitive.fractions")[entry.name], parent=parent,
+                  lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
+    amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+    return _t("primitive.position.extend", side=side, about=ab, amount=amount, parent=parent,
+              dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
+    """Where one anchor puts the part, in ratio words (a master's text): "its left side at a
+    quarter of the body's width"."""
+    axis, r = anchor.axis, anchor.ratio
+    side = words.side(axis, anchor.end)
+    if anchor.face_normal == axis:
+        return _t("ratio_words.flat", side=side, parent=parent)
+    entry = entry_for(r)
+    if entry.name in ("start", "end"):
+        return _t("ratio_words.align", side=side, parent=parent,
+                  pside=words.side(axis, "lo" if r < 0.5 else "hi"))
+    if not entry.extrusion:
+        return _t("ratio_words.inside", side=side, parent=parent, dim=words.dim(axis),
+                  fraction=_raw("primitive.fractions")[entry.name])
+    amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+    return _t("ratio_words.extend", side=side, amount=amount, parent=parent,
+              dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+
+
+def _substep(key: str, fields: dict[str, Any]) -> str:
+    """A sub-step's sentence from ``templates/steps.yaml`` (section ``substep``)."""
+    return _t(f"substep.{key}", **fields)
+
+
+def _substep_of(s: Spec) -> str:
+    """A sub-step that names no point, formatted (a master's summary reuses it)."""
+    return _substep(s.key, dict(s.fields))
+
+
+def _plural(key: str) -> str:
+    """The template key of a sub-step said for two twins at once (``edge`` -> ``edge_two``)."""
+    return f"{key}_two" if isinstance(_raw("substep").get(f"{key}_two"), str) else key
+
+
+def _cap(text: str) -> str:
+    """``text`` with its first letter a capital (a headline starts with the part's name)."""
+    return text[:1].upper() + text[1:]
