@@ -251,7 +251,7 @@ def points_key(points: Sequence[Vec3], tol: float) -> frozenset:
 
 
 def construction_specs(con: Construction, parent: str, face: str,
-                       vp: Callable[[int], str], tol: float) -> list[Spec]:
+                       vp: Callable[..., str], tol: float) -> list[Spec]:
     """The sub-steps of one construction (``h2s_print.constructions.construct``), one per
     ruler operation: the diagonals of a (half) face, a line through their crossing, a line
     through two points and where it crosses another, an edge extended.
@@ -260,7 +260,9 @@ def construction_specs(con: Construction, parent: str, face: str,
         con: the construction.
         parent: the parent's name as the text calls it.
         face: the construction face's name (``front`` ...).
-        vp: the phrase for lines along a model axis (``toward the left vanishing point``).
+        vp: the phrase for lines along a model axis (``toward the left vanishing point``),
+            called ``vp(axis)``, or ``vp(axis, start, end)`` for a line drawn from ``start``
+            (``away from ...`` when it moves away from the vanishing point).
         tol: two points within this distance are one (for merging equal sub-steps).
     """
     at = dict(con.points)
@@ -321,9 +323,11 @@ def construction_specs(con: Construction, parent: str, face: str,
             through = last if last is not None else a
             key = "from" if through in (a, b) else "through"
             twin = ("result", face_id) if ln.role == "guide" and through in ("Q1", "Q3", "I1", "I2") else ()
+            # a line drawn from a point runs one way: toward its vanishing point or away
+            way = (at[through], at[b if through == a else a]) if key == "from" else ()
             out.append(spec(key, ("line", points_key((at[a], at[b]), tol)), twin,
                             point=Pts((at[through],)), line=Pts((at[a], at[b])),
-                            vp=vp(t_axis)))
+                            vp=vp(t_axis, *way)))
         i += 1
     return out
 

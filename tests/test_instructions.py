@@ -37,7 +37,9 @@ from h2s_print.sequence import words as seq_words
 BOX = ((0.0, 0.0, 0.0), (40.0, 30.0, 20.0))
 
 
-def _vp(axis: int) -> str:
+def _vp(axis: int, start=None, end=None) -> str:
+    """The phrase for lines along ``axis`` (and, for a line drawn from ``start`` to ``end``,
+    the same: these tests read which lines are named, not which way)."""
     return f"toward VP{axis}"
 
 

@@ -1225,12 +1225,16 @@ def test_unknown_level_is_refused(examples):
 
 
 def _vp_phrases() -> dict[str, str]:
-    """Every phrase ``templates/steps.yaml`` ``vp`` can produce -> its sheet name (the phrase
-    without "toward the " / "parallel to the ")."""
+    """Every phrase ``templates/steps.yaml`` ``vp`` (and ``vp_away``) can produce -> its sheet
+    name (the phrase without "toward the " / "away from the " / "parallel to the ")."""
     from h2s_print import templates
     vp = templates.lookup("steps", "vp")
     edges = templates.lookup("steps", "edges")
     out = {}
+    for tmpl in templates.lookup("steps", "vp_away").values():
+        for e in edges:
+            phrase = tmpl.format(edges=e)
+            out[phrase] = re.sub(r"^away from the ", "", phrase)
     for key, tmpl in vp.items():
         if key == "vertical":  # the vertical edges' VP at infinity, said in one word
             out[tmpl] = re.sub(r"^(toward|parallel to) the ", "",
@@ -1552,6 +1556,7 @@ def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
         for view in t.views:
             ctx = seq_context._context(plan, view, t.paper, t.sequence)
             vps = {ctx.words.vp(a): a for a in range(3)}
+            vps.update({phrase: a for a, phrase in ctx.words.away.items()})
             vp = views[(view.name, "novice")]
             for step in vp.steps:
                 at = {lb.name: lb.at3d for lb in step.labels}
@@ -1701,5 +1706,148 @@ def test_a_guides_step_draws_something_new(examples):
         for st in vp.steps:
             if st.kind == "guides":
                 assert any(g.status == "new" for g in st.guides), (name, vp.name, st.index)
+                checked += 1
+    assert checked
+
+
+def test_a_placing_step_says_whether_its_lines_were_carried_or_extended(examples):
+    """"Use the lines carried in step N" only where step N carried lines; where step N only
+    extended lines to the part ("Extend ST, QR and AB to the bowl"), the citation says
+    extended (a read-through of the mixer: step 5 cited lines "carried" in step 4, which had
+    carried nothing)."""
+    from h2s_print.templates import lookup
+
+    carried_at = lookup("steps", "substep.reuse_carried").split("{")[0]
+    extended_at = lookup("steps", "substep.reuse_extended").split("{")[0]
+    carry = (lookup("steps", "substep.carry").split("{")[0],
+             lookup("steps", "substep.carry_two").split("{")[0],
+             lookup("steps", "substep.carry_turn").split("{")[0])
+    extend = lookup("steps", "substep.extend_to").split("{")[0]
+    seen = {"carried": 0, "extended": 0}
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        for s in vp.steps:
+            for x in s.substeps:
+                body = x.split(". ", 1)[-1]
+                for head, kind in ((carried_at, "carried"), (extended_at, "extended")):
+                    if not body.startswith(head):
+                        continue
+                    n = int(body[len(head):].rstrip("."))
+                    cited = vp.steps[n - 1].substeps
+                    carries = any(y.split(". ", 1)[-1].startswith(carry) for y in cited)
+                    extends = any(y.split(". ", 1)[-1].startswith(extend) for y in cited)
+                    assert carries if kind == "carried" else (extends and not carries), (
+                        name, vp.name, s.index, x, cited)
+                    seen[kind] += 1
+    assert seen["carried"] and seen["extended"], seen
+
+
+def test_a_line_drawn_from_a_point_goes_toward_or_away_from_its_vanishing_point_as_said(examples):
+    """"From M, draw MN toward the vanishing point below" is drawn from M toward that point:
+    on the sheet N is nearer the vanishing point than M; where it is farther, the text says
+    "away from" (a read-through of the high views: MN rose from M while the text sent it
+    toward the vanishing point below).  The vanishing point is found on the sheet, as the
+    one the line MN points at, not from the text."""
+    import re
+
+    from h2s_print.templates import lookup
+
+    toward = lookup("steps", "vp.left").split(" the ")[0] + " "       # "toward "
+    away = lookup("steps", "vp_away.left").split(" the ")[0] + " "    # "away from "
+    pattern = re.compile(r"From (\w'*), draw (\w'*)(\w'*) (" + re.escape(toward) + "|"
+                         + re.escape(away) + ")")
+    counts = {"toward": 0, "away": 0}
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        finite = [np.asarray(v.xy_mm, dtype=float) for v in vp.vanishing_points
+                  if v.xy_mm is not None]
+        for s in vp.steps:
+            at = {lb.name: np.asarray(lb.at_mm, dtype=float) for lb in s.labels
+                  if lb.kind == "point"}
+            for x in s.substeps:
+                m = pattern.search(x)
+                if not m or m.group(2) != m.group(1):
+                    continue
+                a, b = at[m.group(2)], at[m.group(3)]
+                d = (b - a) / np.linalg.norm(b - a)
+
+                def off(v):  # distance of v from the line through a and b
+                    w = v - a
+                    return abs(d[0] * w[1] - d[1] * w[0]) / max(1.0, float(np.linalg.norm(w)))
+
+                v = min(finite, key=off)
+                if off(v) > 0.01:  # a line parallel on paper (no vanishing point): not here
+                    continue
+                went_away = np.linalg.norm(b - v) > np.linalg.norm(a - v)
+                said_away = m.group(4) == away
+                assert went_away == said_away, (name, vp.name, s.index, x)
+                counts["away" if said_away else "toward"] += 1
+    assert counts["toward"] and counts["away"], counts
+
+
+def test_a_tapered_box_is_drawn_after_its_taper_is_said(examples):
+    """"Its top face is about two thirds of its bottom face's size" comes before "Draw the
+    tapered box on these lines" (a read-through drew the box, then read its taper)."""
+    from h2s_print.templates import lookup
+
+    taper = lookup("steps", "substep.taper").split("{")[0]          # "Its "
+    taper_end = lookup("steps", "substep.taper").split("}")[-1]    # " face's size, centred on it."
+    place = lookup("steps", "substep.place").split("{")[0]          # "Draw the "
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        for s in vp.steps:
+            bodies = [x.split(". ", 1)[-1] for x in s.substeps]
+            said = [i for i, b in enumerate(bodies) if b.startswith(taper) and taper_end in b]
+            drawn = [i for i, b in enumerate(bodies) if b.startswith(place)]
+            if said and drawn:
+                assert said[0] < drawn[0], (name, vp.name, s.index, s.substeps)
+                checked += 1
+    assert checked
+
+
+def test_diagonals_of_the_box_around_a_tapered_part_join_that_box_s_corners(examples):
+    """"Draw diagonals YA and ZB of the top face of the box around the prism": the lettered
+    points are corners of the prism's selected box, on one face of it, and not all corners
+    of the prism's own (smaller) top face (a read-through: "the prism's top face" named the
+    smaller face, whose corners these are not)."""
+    import re
+
+    from h2s_print.templates import lookup
+
+    head = lookup("steps", "substep.diagonals_box").split("{")[0]  # "Draw diagonals "
+    tail = lookup("steps", "substep.diagonals_box").split("{face}")[1].split("{")[0]
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        for s in vp.steps:
+            at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels
+                  if lb.kind == "point"}
+            for x in s.substeps:
+                body = x.split(". ", 1)[-1]
+                if not (body.startswith(head) and tail in body):
+                    continue
+                m = re.match(re.escape(head) + r"(\w'*)(\w'*) and (\w'*)(\w'*)", body)
+                assert m, body
+                pts = [at[m.group(k)] for k in range(1, 5)]
+
+                def corners_of(c):
+                    lo, hi = (np.asarray(v, dtype=float) for v in c.box)
+                    tol = 1e-6 * float(np.linalg.norm(hi - lo))
+                    return all(np.all((np.abs(p - lo) <= tol) | (np.abs(p - hi) <= tol))
+                               for p in pts)
+
+                # every letter a corner of a tapered part's selected box
+                boxes = [c for p, c in plan.chosen().items()
+                         if plan.primitive(p).type == "frustum" and corners_of(c)]
+                assert len(boxes) == 1, (name, vp.name, s.index, x)
+                lo, hi = (np.asarray(v, dtype=float) for v in boxes[0].box)
+                tol = 1e-6 * float(np.linalg.norm(hi - lo))
+                shared = [a for a in range(3) if all(abs(p[a] - pts[0][a]) <= tol for p in pts)]
+                assert len(shared) == 1, (name, x)  # the four corners of one face
                 checked += 1
     assert checked

@@ -536,7 +536,9 @@ class _Context(_Repeats, _Ellipses):
         words = self.words
         strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
         shape = words.shape(prim.type)
-        repeat = [*self.taper_specs(part), *repeat]  # said after the box, before any copies
+        taper = self.taper_specs(part)  # the box's taper: before it is drawn on its lines
+        copies = list(repeat)
+        repeat = [*taper, *copies]  # by eye: after its position and sizes, before any copies
         name = self.say(part)
         note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:
@@ -622,6 +624,9 @@ class _Context(_Repeats, _Ellipses):
         known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
         carried: dict[tuple[int, int | None], list[Pts]] = {}  # by (first axis, turn)
         corners: dict[tuple[int, int | None], list[Pts]] = {}  # where those turn, in order
+        # which way each carry moves (first leg, turning leg: 3D start and end), for "toward"
+        # or "away from" its vanishing point (_Words.vp)
+        legs: dict[tuple[int, int | None], tuple[tuple[Vec3, Vec3], ...]] = {}
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -654,9 +659,14 @@ class _Context(_Repeats, _Ellipses):
                 unit.results.append((a, b))
                 unit.origin[len(unit.results) - 1] = old[0]
             else:
-                unit.specs += construction_specs(con, self.say(ppart),
-                                                 words.face(face.normal, face.end), words.vp,
-                                                 self.tol)
+                made = construction_specs(con, self.say(ppart), words.face(face.normal, face.end),
+                                          words.vp, self.tol)
+                if around and self.uses_box(ppart, around, con):
+                    # the face is the box's around the tapered part, larger than the part's
+                    # own end (a read-through: "the prism's top face" is the smaller one)
+                    made = [replace(x, key="diagonals_box") if x.key == "diagonals" else x
+                            for x in made]
+                unit.specs += made
                 unit.room = unit.room or entry_for(anchor.ratio).needs_room
                 unit.results.append((a, b))
             unit.lines += own
@@ -665,6 +675,9 @@ class _Context(_Repeats, _Ellipses):
                 first, *rest = [_moving_axis(c) for c in carry]
                 turn = next((x for x in rest if x != first), None)  # around a corner: then this
                 runs = carried.setdefault((first, turn), [])
+                legs.setdefault((first, turn), tuple(
+                    (c.start, c.end) for c in (carry[0], *[c for c in carry[1:]
+                                                           if _moving_axis(c) == turn][:1])))
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
                     if turn is not None:  # where it turns, lettered on the picture
@@ -684,13 +697,16 @@ class _Context(_Repeats, _Ellipses):
                                 or not _runs_along(r, axis)])]
         if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
             (a0, _, r0), (a1, _, r1) = carries  # two directions: one sentence
-            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name, vp=words.vp(a0),
-                             lines2=Many(tuple(r1)), vp2=words.vp(a1))]
+            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name,
+                             vp=words.vp(a0, *legs[a0, None][0]), lines2=Many(tuple(r1)),
+                             vp2=words.vp(a1, *legs[a1, None][0]))]
         else:
-            carrying = [spec("carry", lines=Many(tuple(runs)), part=name, vp=words.vp(axis))
+            carrying = [spec("carry", lines=Many(tuple(runs)), part=name,
+                             vp=words.vp(axis, *legs[axis, turn][0]))
                         if turn is None else
                         spec("carry_turn", lines=Many(tuple(runs)), part=name,
-                             vp=words.vp(axis), vp2=words.vp(turn),
+                             vp=words.vp(axis, *legs[axis, turn][0]),
+                             vp2=words.vp(turn, *legs[axis, turn][-1]),
                              turns=Many(tuple(corners[axis, turn])))
                         for axis, turn, runs in carries]
         if extended:
@@ -717,8 +733,11 @@ class _Context(_Repeats, _Ellipses):
 
         def closing_with(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
             said, dims = by_eye(chosen)
-            return (placing + said + [spec("place_by_eye" + there, shape=shape, dims=dims) if dims
-                                      else spec("place" + there, shape=shape)] + list(repeat))
+            # the taper before "Draw the tapered box on these lines" (a read-through: said
+            # after it, the box was drawn before its smaller end was known)
+            return (placing + said + taper
+                    + [spec("place_by_eye" + there, shape=shape, dims=dims) if dims
+                       else spec("place" + there, shape=shape)] + copies)
 
         closing = closing_with([])
         head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note

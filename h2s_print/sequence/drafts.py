@@ -86,7 +86,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     the flash's back, and a reader who had just centred the lens on PQ centred the flash)."""
     cited: dict[int, list[Pts]] = {}
     sides: dict[int, list[str]] = {}
-    carried: list[int] = []
+    carried: dict[int, bool] = {}  # step -> carried (True) or only extended (False)
     moved = _carried(groups)
     for k, g in enumerate(groups):
         for u in g:
@@ -97,13 +97,17 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                     if side_of is not None:
                         sides.setdefault(n, []).extend(side_of(a) for a in u.anchors)
             if any(x.key in _CARRIES for x in u.specs):
-                carried.append(step + k)
+                carried[step + k] = carried.get(step + k, False) or any(
+                    x.key in _CARRIES and x.key != "extend_to" for x in u.specs)
     out = []
     for n, lines in sorted(cited.items()):
         said = list(dict.fromkeys(sides.get(n, ())))
         out.append(spec("reuse_for", line=Many(tuple(lines)), step=n, sides=_join(said))
                    if said else spec("reuse", line=Many(tuple(lines)), step=n))
-    return out + [spec("reuse_carried", step=n) for n in carried]
+    # lines only extended are said so (a read-through: "the lines carried in step 4" where
+    # step 4 had extended them)
+    return out + [spec("reuse_carried" if moved_too else "reuse_extended", step=n)
+                  for n, moved_too in carried.items()]
 
 
 def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
@@ -176,7 +180,8 @@ def _merged_outlines(prev: _Draft, d: _Draft, say: Any) -> _Draft:
 
 #: The lines a sub-step draws, by template key (fields holding two points each).
 _DRAWS: dict[str, tuple[str, ...]] = {
-    "diagonals": ("first", "second"), "half_diagonals": ("first", "second"),
+    "diagonals": ("first", "second"), "diagonals_box": ("first", "second"),
+    "half_diagonals": ("first", "second"),
     "through": ("line",), "cross": ("line",), "from": ("line",),
     "ellipse_diagonals": ("first", "second"), "ellipse_diagonals_plate": ("first", "second"),
 }

@@ -155,7 +155,7 @@ class _Ellipses:
             tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
             strokes, head,
             self.lettered([spec("ellipse_carry", points=around, new=reached,
-                                vp=self.words.vp(axis)), *same])))
+                                vp=self.words.vp(axis, fe.touch[0], be.touch[0])), *same])))
         return out
 
     def ellipse_specs(self, part: str, fe: Any, solid: bool,

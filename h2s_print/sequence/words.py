@@ -11,7 +11,7 @@ from ..constructions import Face
 from ..instructions import Spec
 from ..project import vp_side
 from ..ratios import entry_for
-from ..types import Box, Camera, VanishingPoint
+from ..types import Box, Camera, VanishingPoint, Vec3
 
 _XYZ = "xyz"
 
@@ -38,6 +38,11 @@ class _Words:
     the calibrated sheet's labels use, :func:`h2s_print.layout.vp_names`).  The x faces and
     sides are named by the picture: the one of ``x_lo`` / ``x_hi`` whose face centre (of the
     model's bounding box) projects further left is "left" (``swap_x`` when that is ``x_hi``).
+
+    A line drawn *from* a point (or carried) moves one way along its edges: when that way
+    leads away from the vanishing point on the sheet, it is said so ("From M, draw MN away
+    from the vanishing point below"; a read-through of the high views drew MN downward where
+    it rises: "toward the vanishing point below" said the opposite of the picture).
     """
 
     def __init__(self, camera: Camera, vps: Sequence[VanishingPoint], bounds: Box):
@@ -48,7 +53,11 @@ class _Words:
             side = vp_side(vp, centre_mm)
             if side is not None:
                 keys[vp.axis] = side
+        self.camera = camera
         self.vps: dict[int, str] = {}
+        self.away: dict[int, str] = {}  # the same vanishing points, for lines moving away
+        self.at: dict[int, np.ndarray] = {vp.axis: np.asarray(vp.xy_mm, dtype=float)
+                                          for vp in vps if vp.axis in keys}
         for vp in vps:
             if vp.axis not in keys:
                 self.vps[vp.axis] = (_t("vp.vertical") if vp.axis == 2
@@ -58,13 +67,23 @@ class _Words:
             clash = sum(1 for k in keys.values() if k == key) > 1
             self.vps[vp.axis] = (_t(f"vp.{key}_of", edges=edges[vp.axis]) if clash
                                  else _t(f"vp.{key}"))
+            self.away[vp.axis] = (_t(f"vp_away.{key}_of", edges=edges[vp.axis]) if clash
+                                  else _t(f"vp_away.{key}"))
         xs = [Face(bounds, 0, end) for end in ("lo", "hi")]
         cx = camera.project(np.array([np.mean(np.asarray(f.corners, dtype=float), axis=0)
                                       for f in xs]))[:, 0]
         self.swap_x = bool(cx[1] < cx[0])
 
-    def vp(self, axis: int) -> str:
-        return self.vps[axis]
+    def vp(self, axis: int, start: Vec3 | None = None, end: Vec3 | None = None) -> str:
+        """The phrase for lines along model axis ``axis``; for a line drawn from ``start``
+        to ``end`` (3D), "away from ..." when on the sheet it moves away from the vanishing
+        point."""
+        if start is None or end is None or axis not in self.at:
+            return self.vps[axis]
+        s, e = self.camera.project(np.array([start, end], dtype=float))
+        v = self.at[axis]
+        return (self.away[axis] if float(np.linalg.norm(e - v)) > float(np.linalg.norm(s - v))
+                else self.vps[axis])
 
     def _key(self, axis: int, end: str) -> str:
         if axis == 0 and self.swap_x and end != "mid":
