@@ -585,9 +585,9 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
         x, y = view.map(lb.at_mm)
         return region[0] <= x <= region[2] and region[1] <= y <= region[3]
 
-    # crowded letters: the letters in the close-up, the parts' names on the picture; a small
-    # part: every label it shows in the close-up, the others on the picture
-    there = [lb for lb in step.labels if (inside(lb) if small else lb.kind == "point")]
+    # crowded letters: the letters in the close-up's region there, the parts' names and the
+    # other letters on the picture; a small part: every label it shows in the close-up
+    there = [lb for lb in step.labels if inside(lb) and (small or lb.kind == "point")]
     x0, y0, x1, y1 = zview.rect
     style = STYLES["close_up"]
     frames = [Polyline(((a, b), (c, b), (c, d), (a, d)), style.colour, style.width_mm,
@@ -652,17 +652,18 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
     """Where a crowded step's letters go: the region round its lettered points (page mm) and
     the view that magnifies it into a corner (or the middle of an edge) of the picture, or
     None when the letters have room (no two points closer than :data:`CLOSE_UP_CROWDED_MM`)
-    or no place can take the close-up without covering the region or a part's name.  A step
-    whose letters have room but whose new lines are small (within :data:`CLOSE_UP_SMALL_MM`)
-    gets a close-up of those lines instead (the third value True).  Of the
-    places that can, the one hiding the fewest lines of the object (``drawn``, segments of
-    its strokes), then the most magnified (a smaller close-up is tried where the largest
-    covers the object), then the one hiding the fewest lines of any kind (``segs``).  First
-    of all, beside the picture within ``room`` (its slot on the page), level with the frame,
-    on the side nearer the frame that leaves room for the least zoom: there it hides
-    nothing."""
+    or no place can take the close-up without covering the region or a label the picture
+    keeps.  A step whose letters have room but whose new lines are small (within
+    :data:`CLOSE_UP_SMALL_MM`) gets a close-up of those lines instead (the third value True).
+
+    The region, first that can be placed: the letters with the part the step draws, when
+    that adds at most half again to the region each way (a read-through: the shutter
+    button's box was cut off at the close-up's edge, its letters shown whole); the letters
+    alone; then only the letters that crowd each other (a read-through: the roller's V and
+    X, 1.4 mm apart, got no close-up because all the step's letters spanned the picture),
+    the others staying on the picture.  Placing: :func:`_place_close_up`."""
     pts = [view.map(lb.at_mm) for lb in step.labels if lb.kind == "point"]
-    crowded = False
+    crowded = dense = False
     if len(pts) >= 2:
         closest = min(math.dist(a, b) for k, a in enumerate(pts) for b in pts[k + 1:])
         xs, ys = [p[0] for p in pts], [p[1] for p in pts]
@@ -670,20 +671,65 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
         dense = len(pts) >= CLOSE_UP_DENSE_LETTERS and each < CLOSE_UP_ROOM_MM2
         crowded = closest < CLOSE_UP_CROWDED_MM or dense
     pad = CLOSE_UP_PAD_MM
+
+    def around(ps: Sequence[Pt]) -> Box2:
+        return (min(p[0] for p in ps) - pad, min(p[1] for p in ps) - pad,
+                max(p[0] for p in ps) + pad, max(p[1] for p in ps) + pad)
+
+    new = [view.map(p) for st in step.strokes for p in st.points_mm]
+    tries: list[tuple[Box2, float]] = []
     if crowded:
-        region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
         wanted = max(CLOSE_UP_SPACING_MM / max(closest, 1e-9),
                      math.sqrt(2.0 * CLOSE_UP_ROOM_MM2 / max(each, 1e-9)) if dense else 0.0)
+        letters = around(pts)
+        if new:
+            a, b = letters, around(new)
+            both = (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]))
+            if (both[2] - both[0] <= 1.5 * (a[2] - a[0])
+                    and both[3] - both[1] <= 1.5 * (a[3] - a[1])):
+                tries.append((both, wanted))
+        tries.append((letters, wanted))
+        # the letters that crowd each other, in groups (each letter with every letter closer
+        # than CLOSE_UP_CROWDED_MM to one of its group): the largest group, if not all
+        group = [0] * len(pts)
+        for k in range(len(pts)):
+            group[k] = k
+        for k, p in enumerate(pts):
+            for j in range(k):
+                if math.dist(p, pts[j]) < CLOSE_UP_CROWDED_MM:
+                    old, to = group[k], group[j]
+                    group = [to if g == old else g for g in group]
+        sizes = {g: group.count(g) for g in group}
+        biggest = max(sizes, key=lambda g: (sizes[g], -g))
+        near = [p for p, g in zip(pts, group) if g == biggest]
+        if not dense and 1 < len(near) < len(pts):
+            gap = min(math.dist(a, b) for k, a in enumerate(near) for b in near[k + 1:])
+            tries.append((around(near), CLOSE_UP_SPACING_MM / max(gap, 1e-9)))
     else:
-        new = [view.map(p) for st in step.strokes for p in st.points_mm]
         if not new:
             return None
         xs, ys = [p[0] for p in new], [p[1] for p in new]
         side = max(max(xs) - min(xs), max(ys) - min(ys))
         if side >= CLOSE_UP_SMALL_MM:
             return None
-        region = (min(xs) - pad, min(ys) - pad, max(xs) + pad, max(ys) + pad)
-        wanted = CLOSE_UP_SMALL_TARGET_MM / max(side, 1e-9)
+        tries.append((around(new), CLOSE_UP_SMALL_TARGET_MM / max(side, 1e-9)))
+    for region, wanted in tries:
+        placed = _place_close_up(view, step, region, wanted, crowded, segs, drawn, room)
+        if placed is not None:
+            return region, placed, not crowded
+    return None
+
+
+def _place_close_up(view: _View, step: Step, region: Box2, wanted: float, crowded: bool,
+                    segs: np.ndarray, drawn: np.ndarray, room: Box2 | None) -> _View | None:
+    """The view magnifying ``region`` (about ``wanted`` times, within the limits) where it
+    goes, or None.  Of the places that can, the one hiding the fewest lines of the object
+    (``drawn``, segments of its strokes), then the most magnified (a smaller close-up is
+    tried where the largest covers the object), then the one hiding the fewest lines of any
+    kind (``segs``).  First of all, beside the picture within ``room`` (its slot on the
+    page), level with the frame, on the side nearer the frame that leaves room for the least
+    zoom: there it hides nothing.  In the picture it never covers the region or a label the
+    picture keeps (the parts' names, and every label outside the region)."""
     rw, rh = region[2] - region[0], region[3] - region[1]
     x0, y0, x1, y1 = view.rect
     s = view.scale
@@ -700,17 +746,17 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
                 w, h = rw * z, rh * z
                 bx = lo if lo > x1 else hi - w  # against the picture
                 by = min(max(0.5 * (region[1] + region[3]) - h / 2, y0), y1 - h)
-                return region, _View(window, (bx, by, bx + w, by + h)), not crowded
+                return _View(window, (bx, by, bx + w, by + h))
     zoom = min(CLOSE_UP_MAX_ZOOM, wanted,
                CLOSE_UP_SHARE * (x1 - x0) / rw, CLOSE_UP_SHARE * (y1 - y0) / rh)
     if zoom < CLOSE_UP_MIN_ZOOM:
         return None
     m = CLOSE_UP_INSET_MM
     # the labels the picture keeps, which the close-up must not cover: the parts' names, and
-    # for a small part every label outside the region it magnifies
+    # every label outside the region it magnifies
     names = [q for q, kind in ((view.map(lb.at_mm), lb.kind) for lb in step.labels)
-             if (kind == "part" if crowded else
-                 not (region[0] <= q[0] <= region[2] and region[1] <= q[1] <= region[3]))]
+             if (crowded and kind == "part")
+             or not (region[0] <= q[0] <= region[2] and region[1] <= q[1] <= region[3])]
     best: tuple[tuple[int, float, int], Box2] | None = None
     # largest first, smaller (down to the least zoom) where a larger one covers the object
     for z in (zoom * f for f in (1.0, 0.85, 0.7, 0.55)):
@@ -732,7 +778,7 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
             break
     if best is None:
         return None
-    return region, _View(window, best[1]), not crowded
+    return _View(window, best[1])
 
 
 def _drawing(view: _View, plan: ViewPlan, i: int) -> list[Item]:

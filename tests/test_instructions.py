@@ -871,3 +871,79 @@ def test_a_line_drawn_over_an_edge_says_so(examples):
                         plain += 1
     assert said >= 3 and plain > 50
 
+
+
+def _close_up_of(page):
+    """(region, close-up) rectangles of a step page's close-up, or None."""
+    regions = [it for it in page.items if isinstance(it, L.Rect) and it.role == "close_up_region"]
+    closes = [it for it in page.items if isinstance(it, L.Rect) and it.role == "close_up"]
+    return (regions[0], closes[0]) if regions and closes else None
+
+
+def _within(pts, r):
+    return bool(np.all(pts >= (r.x_mm - 1e-6, r.y_mm - 1e-6))
+                and np.all(pts <= (r.x_mm + r.w_mm + 1e-6, r.y_mm + r.h_mm + 1e-6)))
+
+
+def test_a_close_up_of_crowded_letters_shows_the_part_drawn_with_them(examples):
+    """Crowded letters get a close-up; where the part the step draws lies close by (adding at
+    most half again to the letters' region each way), the close-up shows it whole too (a
+    read-through: the camera's shutter button was cut off at the close-up's edge, high-right
+    step 13)."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != "novice":
+                continue
+            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                     if p.kind == "steps"]
+            for step, page in zip(vp.steps, pages):
+                zoom = _close_up_of(page)
+                rect, scale = _pictures(page, vp)[0]
+                letters = np.array([lb.at_mm for lb in step.labels if lb.kind == "point"],
+                                   dtype=float).reshape(-1, 2) * scale + (rect.x_mm, rect.y_mm)
+                new = np.array([p for st in step.strokes for p in st.points_mm],
+                               dtype=float).reshape(-1, 2) * scale + (rect.x_mm, rect.y_mm)
+                if zoom is None or len(letters) < 2 or not len(new) or not _within(letters, zoom[0]):
+                    continue
+                ext = lambda a: np.ptp(a, axis=0)  # noqa: E731
+                both = np.vstack([letters, new])
+                if np.all(ext(both) <= 1.5 * (ext(letters) + 2 * L.CLOSE_UP_PAD_MM) + 1e-6):
+                    assert _within(new, zoom[0]), (name, view, step.index)
+                    checked += 1
+    assert checked
+    # the read-through's page
+    t, plan, views = examples["camera"]
+    vp = views[("high-right", "novice")]
+    pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label="high-right")
+             if p.kind == "steps"]
+    step = next(s for s in vp.steps if s.part == "shutter_button" and s.kind == "primitive")
+    rect, scale = _pictures(pages[step.index - 1], vp)[0]
+    new = np.array([p for st in step.strokes for p in st.points_mm]) * scale + (rect.x_mm,
+                                                                                 rect.y_mm)
+    assert _within(new, _close_up_of(pages[step.index - 1])[0])
+
+
+def test_letters_crowding_each_other_get_a_close_up_even_when_the_step_s_letters_span_the_picture(examples):
+    """The roller's frame axle (front-left): V, X and Z lie within a few mm of each other at
+    one end of the arm, W and Y at the other.  The crowded group gets the close-up, every
+    letter of it magnified there (before, no close-up: all five letters spanned too much of
+    the picture to magnify)."""
+    t, plan, views = examples["roller"]
+    vp = views[("front-left", "novice")]
+    pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label="front-left")
+             if p.kind == "steps"]
+    step = next(s for s in vp.steps if s.part == "frame_axle" and s.kind == "primitive")
+    page = pages[step.index - 1]
+    rect, scale = _pictures(page, vp)[0]
+    pts = {lb.name: np.asarray(lb.at_mm) * scale + (rect.x_mm, rect.y_mm)
+           for lb in step.labels if lb.kind == "point"}
+    crowded = {a for a in pts for b in pts
+               if a != b and np.linalg.norm(pts[a] - pts[b]) < L.CLOSE_UP_CROWDED_MM}
+    assert len(crowded) >= 3
+    zoom = _close_up_of(page)
+    assert zoom is not None
+    region, close = zoom
+    held = [n for n in crowded if _within(pts[n][None, :], region)]
+    assert len(held) >= 3
+    assert close.w_mm / region.w_mm >= L.CLOSE_UP_MIN_ZOOM - 1e-9
