@@ -53,7 +53,10 @@ from .types import Vec3
 
 #: Letters for points, in order (no I and O).
 ALPHABET = tuple("ABCDEFGHJKLMNPQRSTUVWXYZ")
-#: Steps a letter rests after its point's last step before it names another point.
+#: Steps a letter rests after its point's last step before it names another point.  Two
+#: (no letter meaning two points within two steps) doubled the primed letters (32 -> 68 on
+#: the teaching benchmark's novice steps, 2026-11-24) for pages the reader does not turn
+#: back to; the pages a step cites are kept clear instead (:func:`letter_steps`).
 REST = 1
 
 
@@ -143,8 +146,10 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
     overlap get different letters, and a point keeps its letter all its life (module docstring,
     *Letters*).  Letters are given greedily in order of first mention, each point the letter
     free longest (never used first, then the one whose last point ended earliest) among those
-    that no living point holds and that named no other point in the :data:`REST` steps
-    before; when every plain letter is living or resting, the first primed letter free
+    that no living point holds, that named no other point in the :data:`REST` steps
+    before, and that name no other point on a page the step cites ("Use KL from step 8":
+    the reader turns back to step 8, where E and H must not name other points than on
+    this page); when every plain letter is living or resting, the first primed letter free
     (``A'``): a letter the page just turned used for another point misleads more than a
     prime (the train's chimney guides: E and H named other points on consecutive pages).
 
@@ -191,16 +196,24 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             rx, ry, rz = points[i]
             if abs(rx - x) <= tol and abs(ry - y) <= tol and abs(rz - z) <= tol:
                 last[i] = max(last[i], k)
+    # the earlier steps each step sends the reader back to ("Use KL from step 2")
+    cites = [{v - 1 for s in specs for name, v in s.fields
+              if name == "step" and isinstance(v, int) and 0 < v <= k}
+             for k, specs in enumerate(steps)]
     letter: dict[int, str] = {}
     held: list[tuple[int, str]] = []  # (last step, letter) of points lettered so far
     ended: dict[str, int] = {}  # each letter's latest point's last step
     for k, order in enumerate(named):
+        # letters on the pages this step cites name those points only (a read-through
+        # turned back to step 8 from step 10 and met E, H, S and W naming other points)
+        cited = {letter[j] for c in cites[k] for j in named[c] if j in letter}
         for i in order:
             if i in letter:
                 continue
             # busy: held by a living point, or resting (it named another point in the
-            # previous REST steps, whose page the reader has just turned)
-            busy = {x for end, x in held if end >= k - REST}
+            # previous REST steps, whose page the reader has just turned), or on a page
+            # this step cites
+            busy = {x for end, x in held if end >= k - REST} | cited
             free = [x for x in ALPHABET if x not in busy]
             if free:  # the letter free longest: one never used first, in alphabetical order
                 letter[i] = min(free, key=lambda x: (ended.get(x, -1), ALPHABET.index(x)))

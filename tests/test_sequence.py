@@ -1851,3 +1851,30 @@ def test_diagonals_of_the_box_around_a_tapered_part_join_that_box_s_corners(exam
                 assert len(shared) == 1, (name, x)  # the four corners of one face
                 checked += 1
     assert checked
+
+
+def test_a_letter_on_a_page_a_step_cites_names_the_same_point_there(examples):
+    """"Use KL from step 8": a reader turns back to step 8, where every letter this step
+    shows must name the same point (the read-through met the train's E, H, S and W naming
+    other points on the page step 10 cited)."""
+    import re
+
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        at = [{lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels
+               if lb.kind == "point"} for s in vp.steps]
+        lo, hi = (np.asarray(v, dtype=float) for v in plan.model.bounds)
+        tol = 1e-6 * float(np.linalg.norm(hi - lo))
+        for k, s in enumerate(vp.steps):
+            for n in {int(m) for m in re.findall(r"\b(\d+)\b", " ".join(s.substeps))
+                      if f"step {m}" in s.text or f"Schritt {m}" in s.text}:
+                if not 0 < n <= k:
+                    continue
+                for letter, p in at[k].items():
+                    if letter in at[n - 1]:
+                        assert np.abs(at[n - 1][letter] - p).max() <= tol, (
+                            name, vp.name, s.index, n, letter)
+                        checked += 1
+    assert checked
