@@ -1878,3 +1878,43 @@ def test_a_letter_on_a_page_a_step_cites_names_the_same_point_there(examples):
                             name, vp.name, s.index, n, letter)
                         checked += 1
     assert checked
+
+
+def test_a_master_s_fraction_of_a_parent_is_counted_from_the_end_it_names(examples):
+    """"its left side at two thirds of the engine's width, from its left side": the part's
+    named side lies that fraction of the parent's extent from the parent's named side (on
+    the selected boxes; a read-through could not tell which end "a quarter" counted from)."""
+    import re
+
+    from h2s_print.templates import lookup
+
+    fractions = {v: k for k, v in lookup("steps", "primitive.fractions").items()}
+    value = {"quarter": 0.25, "third": 1 / 3, "half": 0.5, "two-thirds": 2 / 3,
+             "three-quarters": 0.75}
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            words = seq_context._context(plan, view, t.paper, t.sequence).words
+            sides = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
+            said = {p.replace("_", " "): p
+                    for p in chosen}
+            vp = views[(view.name, "master")]
+            for s in vp.steps:
+                for m in re.finditer(r"its ([a-z ]+?) at ([a-z ]+?) of the ([a-z0-9 ]+?)'s "
+                                     r"(width|depth|height), from its ([a-z ]+?)(?:,|\.| and)",
+                                     s.text):
+                    side, frac, parent, _, start = m.groups()
+                    if side not in sides or start not in sides or parent not in said:
+                        continue
+                    (axis, end), (axis2, end2) = sides[side], sides[start]
+                    assert axis == axis2
+                    plo, phi = chosen[said[parent]].box
+                    from_end = plo[axis] if end2 == "lo" else phi[axis]
+                    other = phi[axis] if end2 == "lo" else plo[axis]
+                    want = from_end + value[fractions[frac]] * (other - from_end)
+                    got = chosen[s.part].box[0 if end == "lo" else 1][axis]
+                    assert abs(got - want) <= 1e-6 * max(1.0, abs(phi[axis] - plo[axis])), (
+                        name, view.name, s.index, m.group(0))
+                    checked += 1
+    assert checked

@@ -142,7 +142,9 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
 
 def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
     """Where one anchor puts the part, in ratio words (a master's text): "its left side at a
-    quarter of the body's width"."""
+    quarter of the body's width, from its left side" (counted from the parent's ``lo`` end,
+    named by the picture; a read-through of the master pages could not tell which end "a
+    quarter" counted from)."""
     axis, r = anchor.axis, anchor.ratio
     side = words.side(axis, anchor.end)
     if anchor.face_normal == axis:
@@ -153,7 +155,8 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
                   pside=words.side(axis, "lo" if r < 0.5 else "hi"))
     if not entry.extrusion:
         return _t("ratio_words.inside", side=side, parent=parent, dim=words.dim(axis),
-                  fraction=_raw("primitive.fractions")[entry.name])
+                  fraction=_raw("primitive.fractions")[entry.name],
+                  lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
     amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
     return _t("ratio_words.extend", side=side, amount=amount, parent=parent,
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
