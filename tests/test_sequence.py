@@ -1918,3 +1918,23 @@ def test_a_master_s_fraction_of_a_parent_is_counted_from_the_end_it_names(exampl
                         name, view.name, s.index, m.group(0))
                     checked += 1
     assert checked
+
+
+def test_a_tutorial_ends_by_erasing_its_scaffold_and_no_other_step_says_so(examples):
+    """The last step's last sub-step erases the boxes and guides round the outlines (a
+    read-through: no step said so); no earlier step does, and the last stays within the
+    step's word limit."""
+    from h2s_print.templates import lookup
+
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level not in ("novice", "apprentice", "basic"):
+            continue
+        # the control tutorial says boxes only: it never mentions guides
+        erase = lookup("steps", "substep.erase_boxes" if vp.level == "basic"
+                       else "substep.erase_scaffold")
+        assert vp.steps[-1].substeps[-1].endswith(erase), (name, vp.name, vp.level)
+        assert len(vp.steps[-1].text.split()) <= seq_context.MAX_STEP_WORDS
+        assert not any(erase in x for s in vp.steps[:-1] for x in s.substeps)
+        checked += 1
+    assert checked

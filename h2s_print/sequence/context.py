@@ -1045,7 +1045,8 @@ class _Context(_Repeats, _Ellipses):
                 drafts.append(_Draft(p, "basic", True, (), lines, head, subs))
             drafts += [d for p in order if _round(self.plan.primitive(p))
                        for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
-            drafts += self.contour_drafts(order, self.originals)
+            outlines = self.contour_drafts(order, self.originals)
+            drafts += outlines[:-1] + [self.finish(d, basic=True) for d in outlines[-1:]]
             self._basic = tuple(self.letter(drafts))
         return self._basic
 

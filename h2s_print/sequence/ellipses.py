@@ -199,7 +199,21 @@ class _Ellipses:
         """Consecutive outline drafts packed into steps while the text stays within
         :data:`MAX_STEP_WORDS`: a drawing teacher does not give each small part a page of its
         own (before stop 24: two to a step, whatever their length; the roller's high-right
-        view took four outline steps for seven parts)."""
+        view took four outline steps for seven parts).  The last step ends by erasing the
+        scaffold (:meth:`finish`), within the same limit: where it would not fit, the last
+        outline draft is a step of its own."""
+        out = self._packed(drafts, lead)
+        if out and self.step_words(self.finish(out[-1]).specs, out[-1].headline) > MAX_STEP_WORDS:
+            out = self._packed(drafts[:-1], lead) + self._packed(drafts[-1:], lead)
+        return out[:-1] + [self.finish(out[-1])] if out else out
+
+    def finish(self, d: _Draft, basic: bool = False) -> _Draft:
+        """The tutorial's last step, with its last sub-step: erase the boxes and guides round
+        the outlines (a read-through: no step said so, and the finished drawing kept its
+        scaffold); the control tutorial (``basic``) has boxes only, and no word of guides."""
+        return replace(d, specs=d.specs + (spec("erase_boxes" if basic else "erase_scaffold"),))
+
+    def _packed(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
         out: list[_Draft] = []
         for d in drafts:
             if out and out[-1].kind == d.kind:
