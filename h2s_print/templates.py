@@ -53,7 +53,8 @@ FIELDS: dict[str, frozenset[str]] = {
         "face", "faces", "first", "fraction", "half", "hi", "index", "kind", "label", "line",
         "lines", "lines2", "lo", "n", "new", "other", "parent", "part", "parts", "point",
         "points", "position", "pside", "psides", "directions", "reused", "second", "shape", "side", "sides", "small", "large", "start",
-        "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "turns",
+        "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "total",
+        "turns",
         "vp", "vp2", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",

@@ -1938,3 +1938,34 @@ def test_a_tutorial_ends_by_erasing_its_scaffold_and_no_other_step_says_so(examp
         assert not any(erase in x for s in vp.steps[:-1] for x in s.substeps)
         checked += 1
     assert checked
+
+
+def test_several_guides_steps_for_one_part_are_numbered(examples):
+    """A part whose guides take several steps: their headlines say "(1 of 3)", "(2 of 3)" ...
+    in order (a read-through took three pages headed alike for a page printed twice); a part
+    with one guides step says no number."""
+    import re
+
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        runs: dict[tuple[str, int], list] = {}
+        start = None
+        for s in vp.steps:
+            if s.kind == "guides":
+                if start is None or runs[start][-1].part != s.part:
+                    start = (s.part, s.index)
+                    runs[start] = []
+                runs[start].append(s)
+            else:
+                start = None
+        for (part, _), steps in runs.items():
+            for k, s in enumerate(steps, start=1):
+                m = re.search(r"\((\d+) of (\d+)\)", s.headline)
+                if len(steps) == 1:
+                    assert m is None, s.headline
+                else:
+                    assert m and (int(m.group(1)), int(m.group(2))) == (k, len(steps)), s.headline
+                    checked += 1
+    assert checked

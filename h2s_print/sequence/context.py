@@ -741,11 +741,18 @@ class _Context(_Repeats, _Ellipses):
 
         closing = closing_with([])
         head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
-        def guides_head(group: list[_Unit]) -> str:
+        def guides_head(group: list[_Unit], n: int = 0, total: int = 1) -> str:
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
+            if total > 1:  # several guides steps for one part: numbered (a read-through took
+                # three pages headed alike for one page repeated)
+                return _t("headline.guides_of", part=name, the_parents=gparents, n=n,
+                          total=total)
             return _t("headline.guides", part=name, the_parents=gparents)
 
         groups = self.pack(list(units.values()), closing, head, step, guides_head)
+        if len(groups) > 2:  # numbered guides steps: their longer headlines counted too
+            groups = self.pack(list(units.values()), closing, head, step,
+                               lambda g: guides_head(g, 9, 9))
         drafts: list[_Draft] = []
         said: set = set()  # lines an earlier guides step of this part drew: not drawn again
         for k, group in enumerate(groups[:-1]):
@@ -758,7 +765,7 @@ class _Context(_Repeats, _Ellipses):
                 _ratio_words(words, a, self.say(self.by_id[a.parent].part))
                 for u in group for a in u.anchors)))
             drafts.append(_Draft(part, "guides", False, tuple(ln for u in group for ln in u.lines),
-                                 (), guides_head(group), subs,
+                                 (), guides_head(group, k + 1, len(groups) - 1), subs,
                                  gsummary))
         last = groups[-1]
         here = step + len(groups) - 1
