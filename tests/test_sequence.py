@@ -1941,9 +1941,9 @@ def test_a_tutorial_ends_by_erasing_its_scaffold_and_no_other_step_says_so(examp
 
 
 def test_several_guides_steps_for_one_part_are_numbered(examples):
-    """A part whose guides take several steps: their headlines say "(1 of 3)", "(2 of 3)" ...
-    in order (a read-through took three pages headed alike for a page printed twice); a part
-    with one guides step says no number."""
+    """A part whose guides take several steps: their headlines number them, "(1/3)", "(2/3)" ...
+    in order, as "(2/3)" (a read-through took three pages headed alike for a page printed
+    twice); a part with one guides step says no number."""
     import re
 
     checked = 0
@@ -1962,7 +1962,7 @@ def test_several_guides_steps_for_one_part_are_numbered(examples):
                 start = None
         for (part, _), steps in runs.items():
             for k, s in enumerate(steps, start=1):
-                m = re.search(r"\((\d+) of (\d+)\)", s.headline)
+                m = re.search(r"\((\d+)/(\d+)\)", s.headline)
                 if len(steps) == 1:
                     assert m is None, s.headline
                 else:

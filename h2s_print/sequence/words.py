@@ -154,7 +154,9 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
         return _t("ratio_words.align", side=side, parent=parent,
                   pside=words.side(axis, "lo" if r < 0.5 else "hi"))
     if not entry.extrusion:
-        return _t("ratio_words.inside", side=side, parent=parent, dim=words.dim(axis),
+        # half way is the same from either end: said without one
+        return _t("ratio_words.middle" if entry.name == "half" else "ratio_words.inside",
+                  side=side, parent=parent, dim=words.dim(axis),
                   fraction=_raw("primitive.fractions")[entry.name],
                   lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
     amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
