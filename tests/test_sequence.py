@@ -1881,7 +1881,7 @@ def test_a_letter_on_a_page_a_step_cites_names_the_same_point_there(examples):
 
 
 def test_a_master_s_fraction_of_a_parent_is_counted_from_the_end_it_names(examples):
-    """"its left side at two thirds of the engine's width, from its left side": the part's
+    """"its left side at two thirds of the engine's width (from its left side)": the part's
     named side lies that fraction of the parent's extent from the parent's named side (on
     the selected boxes; a read-through could not tell which end "a quarter" counted from)."""
     import re
@@ -1902,7 +1902,7 @@ def test_a_master_s_fraction_of_a_parent_is_counted_from_the_end_it_names(exampl
             vp = views[(view.name, "master")]
             for s in vp.steps:
                 for m in re.finditer(r"its ([a-z ]+?) at ([a-z ]+?) of the ([a-z0-9 ]+?)'s "
-                                     r"(width|depth|height), from its ([a-z ]+?)(?:,|\.| and)",
+                                     r"(width|depth|height) \(from its ([a-z ]+?)\)",
                                      s.text):
                     side, frac, parent, _, start = m.groups()
                     if side not in sides or start not in sides or parent not in said:
@@ -1968,4 +1968,25 @@ def test_several_guides_steps_for_one_part_are_numbered(examples):
                 else:
                     assert m and (int(m.group(1)), int(m.group(2))) == (k, len(steps)), s.headline
                     checked += 1
+    assert checked
+
+
+def test_an_outline_step_traces_a_few_shapes_at_a_time(examples):
+    """At most OUTLINE_SHAPES distinct shapes a contour step (a part's copies count once, here
+    by their name without its number): a read-through met the oven's ten parts traced in one
+    step from a small picture; the camera's front-left view traced five in one."""
+    from h2s_print.names import stem
+    from h2s_print.sequence.ellipses import OUTLINE_SHAPES
+
+    checked = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        for s in vp.steps:
+            if s.kind != "contour":
+                continue
+            shapes = {stem(n) or n for n in (st.part.replace("_", " ") for st in s.strokes
+                                              if st.kind == "contour")}
+            assert len(shapes) <= OUTLINE_SHAPES, (name, vp.name, s.index, sorted(shapes))
+            checked += 1
     assert checked

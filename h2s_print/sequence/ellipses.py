@@ -27,6 +27,10 @@ from .hiding import _front_to_back
 from .words import _cap, _join, _t, _the
 
 
+#: Distinct shapes (a part and its copies count once) traced in one outline step, at most.
+OUTLINE_SHAPES = 3
+
+
 class _Ellipses:
     """Ellipse and outline drafts, mixed into
     :class:`~h2s_print.sequence.context._Context` (whose fields these methods read)."""
@@ -197,9 +201,12 @@ class _Ellipses:
 
     def pack_outlines(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
         """Consecutive outline drafts packed into steps while the text stays within
-        :data:`MAX_STEP_WORDS`: a drawing teacher does not give each small part a page of its
-        own (before stop 24: two to a step, whatever their length; the roller's high-right
-        view took four outline steps for seven parts).  The last step ends by erasing the
+        :data:`MAX_STEP_WORDS` and a step traces at most :data:`OUTLINE_SHAPES` distinct
+        shapes (a part and its copies are one): a drawing teacher does not give each small
+        part a page of its own (before stop 24: two to a step, whatever their length; the
+        roller's high-right view took four outline steps for seven parts), nor the whole
+        object at once (a read-through: the oven's ten parts, twenty grill bars among them,
+        in one step from a 155 mm picture).  The last step ends by erasing the
         scaffold (:meth:`finish`), within the same limit: where it would not fit, the last
         outline draft is a step of its own."""
         out = self._packed(drafts, lead)
@@ -218,8 +225,10 @@ class _Ellipses:
         for d in drafts:
             if out and out[-1].kind == d.kind:
                 both = _merged_outlines(out[-1], d, self.say)
-                if self.step_words(self.round_sides(both, lead).specs,
-                                   both.headline) <= MAX_STEP_WORDS:
+                shapes = {lead.get(q, q) for q in both.group}
+                if (len(shapes) <= OUTLINE_SHAPES
+                        and self.step_words(self.round_sides(both, lead).specs,
+                                            both.headline) <= MAX_STEP_WORDS):
                     out[-1] = both
                     continue
             out.append(d)

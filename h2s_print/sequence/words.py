@@ -142,7 +142,7 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
 
 def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
     """Where one anchor puts the part, in ratio words (a master's text): "its left side at a
-    quarter of the body's width, from its left side" (counted from the parent's ``lo`` end,
+    quarter of the body's width (from its left side)" (counted from the parent's ``lo`` end,
     named by the picture; a read-through of the master pages could not tell which end "a
     quarter" counted from)."""
     axis, r = anchor.axis, anchor.ratio
