@@ -164,13 +164,16 @@ def _key(label: str) -> str:
     return " ".join(label.split()).casefold()
 
 
-def display_names(parts: Sequence[str], *, label_format: str = "part {n}") -> dict[str, PartName]:
+def display_names(parts: Sequence[str], *, label_format: str = "part {n}",
+                  order: Sequence[str] = ()) -> dict[str, PartName]:
     """The :class:`PartName` of every part, keyed by part name, in the order of ``parts``.
 
     ``label_format`` is the ``str.format`` template of a numbered label, with the field ``{n}``
     (the caller reads it from ``templates/``).  Repeated names count once.  Every label is
     unique (compared as :func:`_key` does), and the result does not depend on the order of
-    ``parts`` beyond the order of the keys.
+    ``parts`` beyond the order of the keys.  Numbered labels follow ``order`` (the parts
+    coarse to fine: "Part 1: the first box", where a read-through met "Part 5: the first
+    box"), parts it leaves out after them by name.
 
     Raises:
         ValueError: ``label_format`` gives the same label for two numbers (no ``{n}``), or has
@@ -209,7 +212,9 @@ def display_names(parts: Sequence[str], *, label_format: str = "part {n}") -> di
             taken.add(_key(label))
     numbered: dict[str, str] = dict(derived)
     n = 0
-    for p in sorted(p for p in names if p not in kept and p not in derived):
+    rank = {q: k for k, q in enumerate(dict.fromkeys(order))}
+    for p in sorted((p for p in names if p not in kept and p not in derived),
+                    key=lambda q: (rank.get(q, len(rank)), q)):
         n += 1
         while _key(label_format.format(n=n)) in taken:
             n += 1

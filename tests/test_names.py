@@ -189,3 +189,20 @@ def test_values_are_frozen():
     value = display_names(["lid"])["lid"]
     with pytest.raises(AttributeError):
         value.label = "x"  # type: ignore[misc]
+
+
+def test_numbered_labels_follow_the_order_given_then_the_names():
+    """Parts called by a number are numbered in the order given (the sequence stage passes
+    the start part first, then larger before smaller: "Part 1: the first box", where a
+    read-through met "Part 5: the first box"); parts the order leaves out come after, by
+    name; readable names keep their own."""
+    parts = ["0_part0", "1_part1", "2_part2", "3_part3", "seat"]
+    names = display_names(parts, order=["3_part3", "1_part1"])
+    assert names["3_part3"].label == "part 1"
+    assert names["1_part1"].label == "part 2"
+    assert names["0_part0"].label == "part 3"
+    assert names["2_part2"].label == "part 4"
+    assert names["seat"].label == "seat" and names["seat"].readable
+    # without an order: by name, as before
+    plain = display_names(parts)
+    assert [plain[p].label for p in parts[:4]] == ["part 1", "part 2", "part 3", "part 4"]

@@ -25,7 +25,7 @@ from ..instructions import (
     spec,
     unique_specs,
 )
-from ..names import PartName, display_names, stem
+from ..names import PartName, display_names, natural_key, stem
 from ..occlude import Solid
 from ..order import drawing_order, part_size, start_part
 from ..project import vanishing_points
@@ -1155,8 +1155,9 @@ class _Context(_Repeats, _Ellipses):
                               d.headline, subs, summary, labels))
         shown = {st.part for st in steps if st.part is not None} | {
             s.part for st in steps for s in st.strokes}
-        renamed = tuple((self.names[p].label, p) for p in sorted(shown)
-                        if not self.names[p].readable)
+        renamed = tuple(sorted(((self.names[p].label, p) for p in shown
+                                if not self.names[p].readable),
+                               key=lambda lp: (natural_key(lp[0]), lp[1])))
         return ViewPlan(name, level, (float(paper.width_mm), float(paper.height_mm)), self.camera,
                         self.vps, tuple(steps), renamed)
 
@@ -1167,6 +1168,16 @@ def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
         if not any(_same_segment(ln.start, ln.end, o.start, o.end, tol) for o in out):
             out.append(ln)
     return out
+
+
+def _numbering(plan: Any, chosen: dict[str, Any]) -> list[str]:
+    """The order parts called by a number are numbered in, the same in every view: the start
+    part first (drawn first in every view), then larger before smaller (the selected boxes'
+    largest faces), then by name."""
+    first = start_part(plan.primitives)
+    rest = sorted((p for p in chosen if p != first),
+                  key=lambda p: (-part_size(chosen[p].box), natural_key(p)))
+    return [first, *rest] if first in chosen else rest
 
 
 def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSettings) -> _Context:
@@ -1182,5 +1193,6 @@ def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSett
                    by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
                    originals={p.name: p for p in plan.model.parts},
                    names=display_names([p.name for p in plan.model.parts],
-                                       label_format=templates.lookup("pages", "parts.label")))
+                                       label_format=templates.lookup("pages", "parts.label"),
+                                       order=_numbering(plan, chosen)))
     return ctx
