@@ -140,8 +140,10 @@ Decisions where the brief is open (kept here, in one place)
   sub-steps (novice, apprentice), or the headline and the ratio words (master); points are
   lettered over the whole tutorial at once (:func:`h2s_print.instructions.letter_steps`), a
   point keeping its letter while later steps name it; parts are called by
-  :func:`h2s_print.names.display_names`.  Outlines come two parts a step; an ellipse too small
-  to construct is sketched in its part's outlines step.  Vanishing points are named by
+  :func:`h2s_print.names.display_names`.  Outline steps take consecutive parts up to three
+  distinct shapes and :data:`MAX_STEP_WORDS` words (:meth:`_Ellipses.pack_outlines`), the last
+  ending by erasing the scaffold; an ellipse too small to construct is sketched in its part's
+  outlines step.  Vanishing points are named by
   :func:`h2s_print.project.vp_side` seen from the *sheet's* centre (left/right when the
   horizontal offset dominates, above/below otherwise), "parallel to the ... edges" at infinity:
   the same rule and centre as the calibrated sheet's labels (:func:`h2s_print.layout.vp_names`).
