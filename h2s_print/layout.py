@@ -858,18 +858,27 @@ def _boxes_overlap(a: Box2, b: Box2) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
+#: A label crossing one of the step's new (thick, coloured) lines counts as crossing this
+#: many drawn lines (:func:`place_labels`).
+NEW_LINE_WEIGHT = 3
+
+
 def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) -> list[Item]:
     """A dot at each label's point and its letters beside it (roles ``label_point`` and
     ``label``; a part's short name, kind ``part``, in blue without a dot, on the part if there
     is room: role ``part_label``), placed so that no two labels overlap each other or another label's dot, every
     label stays inside the picture, each label is nearer its own dot than any other dot when
-    possible, and then as few drawn lines as possible cross it, each ring further from the dot
-    counting as one line crossed (then the preferred direction).
+    possible, and then as few drawn lines as possible cross it (one of the step's new lines
+    counting :data:`NEW_LINE_WEIGHT`), each ring further from the dot counting as one line
+    crossed (then the preferred direction).
 
     Raises:
         RenderError: no place is free for a label (more labels than the picture can hold).
     """
     segs = _segments(items)
+    # the step's new lines are drawn thick, in colour: a letter across one is lost in it (the
+    # train's J under the boiler's new edge), so crossing one counts NEW_LINE_WEIGHT lines
+    new = _segments([it for it in items if isinstance(it, Polyline) and it.role == "stroke_new"])
     dots = [view.map(lb.at_mm) for lb in labels]
     x0, y0, x1, y1 = view.rect
     taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
@@ -908,8 +917,13 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
                                 for j, (ox, oy) in enumerate(dots)
                                 if j != k and labels[j].kind == "point")
                 free.append((di, bx0, by0, box, ambiguous))
-            crossed = _crossings_many(segs, [f[3] for f in free]).tolist()
-            for (di, bx0, by0, _, ambiguous), n in zip(free, crossed):
+            crossed = _crossings_many(segs, [f[3] for f in free])
+            if len(new):  # the box grown by the thick line's half width: touching counts
+                grow = STYLES["new"].width_mm / 2 + pad
+                crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
+                    new, [(b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow)
+                          for b in (f[3] for f in free)])
+            for (di, bx0, by0, _, ambiguous), n in zip(free, crossed.tolist()):
                 score = (ambiguous, n + ri, di)
                 if best is None or score < best[0]:
                     best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",

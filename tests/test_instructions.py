@@ -947,3 +947,31 @@ def test_letters_crowding_each_other_get_a_close_up_even_when_the_step_s_letters
     held = [n for n in crowded if _within(pts[n][None, :], region)]
     assert len(held) >= 3
     assert close.w_mm / region.w_mm >= L.CLOSE_UP_MIN_ZOOM - 1e-9
+
+
+def test_letters_keep_off_the_step_s_new_lines(examples):
+    """The step's new lines are thick and coloured: a letter across or touching one is lost
+    in it (the train's J under the boiler's new edge).  Over the examples' novice pages at
+    most two letters touch one (17 before the new lines counted more than other lines), and
+    never the train's J."""
+    touching = total = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != "novice":
+                continue
+            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                     if p.kind == "steps"]
+            for step, page in zip(vp.steps, pages):
+                new = L._segments([it for it in page.items if isinstance(it, L.Polyline)
+                                   and it.role == "stroke_new"])
+                g = L.STYLES["new"].width_mm / 2
+                for tx in (it for it in page.items if isinstance(it, L.Text)
+                           and it.role == "label"):
+                    b = tx.box_mm
+                    total += 1
+                    hit = bool(len(new)) and L._crossings(
+                        new, (b[0] - g, b[1] - g, b[2] + g, b[3] + g)) > 0
+                    touching += hit
+                    if (name, view, step.part, tx.string) == ("train", "front-left", "boiler", "J"):
+                        assert not hit
+    assert total > 500 and touching <= 2, (touching, total)
