@@ -1990,3 +1990,43 @@ def test_an_outline_step_traces_a_few_shapes_at_a_time(examples):
             assert len(shapes) <= OUTLINE_SHAPES, (name, vp.name, s.index, sorted(shapes))
             checked += 1
     assert checked
+
+
+def test_an_ellipse_another_part_drew_is_said_not_drawn_again(shared_models):
+    """The PartNet bottle's lid sits on its neck: the lid's bottom ellipse is the neck's top
+    one.  The lid's ellipse steps do not draw it again (a read-through carried four points
+    onto themselves); the step says whose it is and where it was drawn, and that step drew an
+    ellipse spanning the same rectangle."""
+    import re
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+    from h2s_print.templates import lookup
+
+    cfg = Path(__file__).resolve().parents[1] / "benchmarks" / "configs" / "bottle_3763.yaml"
+    t = load_tutorial(cfg)
+    plan = build_plan(t.model, t.solver)
+    shared = lookup("steps", "substep.ellipse_shared").split("{step}")[1]  # ": nothing to draw."
+    found = 0
+    for view in t.views:
+        vp, = seq.sequence_views(plan, view, ("novice",), t.paper, t.sequence)
+        spans = {}
+        for s in vp.steps:
+            if s.kind != "ellipse":
+                continue
+            pts = np.array([p for st in s.strokes for p in st.points3d], dtype=float)
+            spans[s.index] = np.vstack([pts.min(axis=0), pts.max(axis=0)])
+        lid = [s for s in vp.steps if s.kind == "ellipse" and s.part.endswith("lid")]
+        for s in lid:
+            for x in s.substeps:
+                if x.endswith(shared):
+                    n = int(re.search(r"(\d+)" + re.escape(shared), x).group(1))
+                    other = vp.steps[n - 1]
+                    assert other.part.endswith("neck") and other.kind == "ellipse"
+                    found += 1
+        # no two ellipse steps of different parts draw the same rectangle
+        keys = [(vp.steps[i - 1].part, tuple(np.round(b.ravel(), 6))) for i, b in spans.items()]
+        seen = {}
+        for part, k in keys:
+            assert seen.setdefault(k, part) == part, (view.name, part, seen[k])
+    assert found

@@ -1005,8 +1005,21 @@ class _Context(_Repeats, _Ellipses):
                     small[p] = made[0]
                 else:
                     ellipses += made
+            drawn_ellipses: dict[tuple, tuple[str, int]] = {}  # ellipse -> (part, step)
             for d in ellipses:  # diagonals a primitive step drew already: used, not redrawn
                 here = len(drafts) + 1
+                key = self.ellipse_key(d)
+                if key in drawn_ellipses and drawn_ellipses[key][0] != d.part:
+                    # the same ellipse another part's step drew (a lid on a neck: the lid's
+                    # bottom is the neck's top): said, not drawn again (a read-through redrew
+                    # it, carrying four points onto themselves)
+                    other, n = drawn_ellipses[key]
+                    if drafts and drafts[-1].part == d.part and drafts[-1].kind == "ellipse":
+                        drafts[-1] = replace(drafts[-1], specs=drafts[-1].specs + (
+                            spec("ellipse_shared", face=self.ellipse_face(d), other=self.say(other),
+                                 step=n),))
+                        continue
+                drawn_ellipses.setdefault(key, (d.part, here))
                 drafts.append(replace(d, specs=tuple(self.drawn_before(x, here) for x in d.specs)))
             contours = self.contour_drafts(order, self.adjusted)
             merged: list[_Draft] = []

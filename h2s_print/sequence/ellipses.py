@@ -162,6 +162,23 @@ class _Ellipses:
                                 vp=self.words.vp(axis, fe.touch[0], be.touch[0])), *same])))
         return out
 
+    def ellipse_key(self, d: _Draft) -> tuple:
+        """An ellipse step's ellipse, as the rectangle its strokes span (3D, rounded to the
+        merge tolerance): two steps drawing the same ellipse have the same key."""
+        pts = np.array([p for st in d.strokes for p in st.points3d], dtype=float).reshape(-1, 3)
+        if not len(pts):
+            return ()
+        q = np.round(np.vstack([pts.min(axis=0), pts.max(axis=0)]) / (100.0 * self.tol))
+        return tuple(int(x) for x in q.ravel())
+
+    def ellipse_face(self, d: _Draft) -> str:
+        """The end face (``top`` ...) of its part that an ellipse step's ellipse lies on."""
+        prim = self.plan.primitive(d.part)
+        box = self.chosen[d.part].box
+        c = float(np.mean([p[prim.axis] for st in d.strokes for p in st.points3d]))
+        end = "lo" if abs(c - box[0][prim.axis]) <= abs(c - box[1][prim.axis]) else "hi"
+        return self.words.face(prim.axis, end)
+
     def ellipse_specs(self, part: str, fe: Any, solid: bool,
                       strokes: Sequence[Stroke]) -> list[Spec]:
         """The sub-steps constructing ellipse ``fe`` of ``part`` in its face: diagonals for the
