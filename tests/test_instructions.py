@@ -178,6 +178,30 @@ def _letters_in(substeps) -> set[str]:
     return out
 
 
+def _novice_step_pages(examples):
+    """(model, view, view plan, step, its page) over the examples' novice workbooks."""
+    for name, (t, plan, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != "novice":
+                continue
+            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                     if p.kind == "steps"]
+            for step, page in zip(vp.steps, pages):
+                yield name, view, vp, step, page
+
+
+def _close_up_of(page):
+    """(region, close-up) rectangles of a step page's close-up, or None."""
+    regions = [it for it in page.items if isinstance(it, L.Rect) and it.role == "close_up_region"]
+    closes = [it for it in page.items if isinstance(it, L.Rect) and it.role == "close_up"]
+    return (regions[0], closes[0]) if regions and closes else None
+
+
+def _within(pts, r):
+    return bool(np.all(pts >= (r.x_mm - 1e-6, r.y_mm - 1e-6))
+                and np.all(pts <= (r.x_mm + r.w_mm + 1e-6, r.y_mm + r.h_mm + 1e-6)))
+
+
 def _pictures(page, plan):
     """(paper rect on the page, mm per sheet mm) for each step picture of a page."""
     rects = [it for it in page.items if isinstance(it, L.Rect) and it.role == "paper"]
@@ -190,31 +214,21 @@ def test_a_small_new_part_is_shown_enlarged(examples):
     where its letters did not ask for one, the close-up's region holds all those lines and
     magnifies them at least ``CLOSE_UP_MIN_ZOOM`` times."""
     small = held = 0
-    for name, (t, plan, views) in examples.items():
-        for (view, lv), vp in views.items():
-            if lv != "novice":
-                continue
-            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
-                     if p.kind == "steps"]
-            for step, page in zip(vp.steps, pages):
-                rect, scale = _pictures(page, vp)[0]
-                pts = np.array([p for st in step.strokes for p in st.points_mm], dtype=float)
-                if not len(pts):
-                    continue
-                pts = pts * scale + (rect.x_mm, rect.y_mm)  # on the page
-                if max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])) >= L.CLOSE_UP_SMALL_MM:
-                    continue
-                small += 1
-                regions = [it for it in page.items if isinstance(it, L.Rect)
-                           and it.role == "close_up_region"]
-                closes = [it for it in page.items if isinstance(it, L.Rect)
-                          and it.role == "close_up"]
-                assert regions and closes, (name, view, step.index)
-                r, c = regions[0], closes[0]
-                if (np.all(pts >= (r.x_mm - 1e-6, r.y_mm - 1e-6))
-                        and np.all(pts <= (r.x_mm + r.w_mm + 1e-6, r.y_mm + r.h_mm + 1e-6))):
-                    assert c.w_mm / r.w_mm >= L.CLOSE_UP_MIN_ZOOM - 1e-9
-                    held += 1
+    for name, view, vp, step, page in _novice_step_pages(examples):
+        rect, scale = _pictures(page, vp)[0]
+        pts = np.array([p for st in step.strokes for p in st.points_mm], dtype=float)
+        if not len(pts):
+            continue
+        pts = pts * scale + (rect.x_mm, rect.y_mm)  # on the page
+        if max(np.ptp(pts[:, 0]), np.ptp(pts[:, 1])) >= L.CLOSE_UP_SMALL_MM:
+            continue
+        small += 1
+        zoom = _close_up_of(page)
+        assert zoom is not None, (name, view, step.index)
+        r, c = zoom
+        if _within(pts, r):
+            assert c.w_mm / r.w_mm >= L.CLOSE_UP_MIN_ZOOM - 1e-9
+            held += 1
     assert small and held
 
 
@@ -873,44 +887,26 @@ def test_a_line_drawn_over_an_edge_says_so(examples):
 
 
 
-def _close_up_of(page):
-    """(region, close-up) rectangles of a step page's close-up, or None."""
-    regions = [it for it in page.items if isinstance(it, L.Rect) and it.role == "close_up_region"]
-    closes = [it for it in page.items if isinstance(it, L.Rect) and it.role == "close_up"]
-    return (regions[0], closes[0]) if regions and closes else None
-
-
-def _within(pts, r):
-    return bool(np.all(pts >= (r.x_mm - 1e-6, r.y_mm - 1e-6))
-                and np.all(pts <= (r.x_mm + r.w_mm + 1e-6, r.y_mm + r.h_mm + 1e-6)))
-
-
 def test_a_close_up_of_crowded_letters_shows_the_part_drawn_with_them(examples):
     """Crowded letters get a close-up; where the part the step draws lies close by (adding at
     most half again to the letters' region each way), the close-up shows it whole too (a
     read-through: the camera's shutter button was cut off at the close-up's edge, high-right
     step 13)."""
     checked = 0
-    for name, (t, plan, views) in examples.items():
-        for (view, lv), vp in views.items():
-            if lv != "novice":
-                continue
-            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
-                     if p.kind == "steps"]
-            for step, page in zip(vp.steps, pages):
-                zoom = _close_up_of(page)
-                rect, scale = _pictures(page, vp)[0]
-                letters = np.array([lb.at_mm for lb in step.labels if lb.kind == "point"],
-                                   dtype=float).reshape(-1, 2) * scale + (rect.x_mm, rect.y_mm)
-                new = np.array([p for st in step.strokes for p in st.points_mm],
-                               dtype=float).reshape(-1, 2) * scale + (rect.x_mm, rect.y_mm)
-                if zoom is None or len(letters) < 2 or not len(new) or not _within(letters, zoom[0]):
-                    continue
-                ext = lambda a: np.ptp(a, axis=0)  # noqa: E731
-                both = np.vstack([letters, new])
-                if np.all(ext(both) <= 1.5 * (ext(letters) + 2 * L.CLOSE_UP_PAD_MM) + 1e-6):
-                    assert _within(new, zoom[0]), (name, view, step.index)
-                    checked += 1
+    for name, view, vp, step, page in _novice_step_pages(examples):
+        zoom = _close_up_of(page)
+        rect, scale = _pictures(page, vp)[0]
+        letters = np.array([lb.at_mm for lb in step.labels if lb.kind == "point"],
+                           dtype=float).reshape(-1, 2) * scale + (rect.x_mm, rect.y_mm)
+        new = np.array([p for st in step.strokes for p in st.points_mm],
+                       dtype=float).reshape(-1, 2) * scale + (rect.x_mm, rect.y_mm)
+        if zoom is None or len(letters) < 2 or not len(new) or not _within(letters, zoom[0]):
+            continue
+        ext = lambda a: np.ptp(a, axis=0)  # noqa: E731
+        both = np.vstack([letters, new])
+        if np.all(ext(both) <= 1.5 * (ext(letters) + 2 * L.CLOSE_UP_PAD_MM) + 1e-6):
+            assert _within(new, zoom[0]), (name, view, step.index)
+            checked += 1
     assert checked
     # the read-through's page
     t, plan, views = examples["camera"]
@@ -955,23 +951,16 @@ def test_letters_keep_off_the_step_s_new_lines(examples):
     most two letters touch one (17 before the new lines counted more than other lines), and
     never the train's J."""
     touching = total = 0
-    for name, (t, plan, views) in examples.items():
-        for (view, lv), vp in views.items():
-            if lv != "novice":
-                continue
-            pages = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
-                     if p.kind == "steps"]
-            for step, page in zip(vp.steps, pages):
-                new = L._segments([it for it in page.items if isinstance(it, L.Polyline)
-                                   and it.role == "stroke_new"])
-                g = L.STYLES["new"].width_mm / 2
-                for tx in (it for it in page.items if isinstance(it, L.Text)
-                           and it.role == "label"):
-                    b = tx.box_mm
-                    total += 1
-                    hit = bool(len(new)) and L._crossings(
-                        new, (b[0] - g, b[1] - g, b[2] + g, b[3] + g)) > 0
-                    touching += hit
-                    if (name, view, step.part, tx.string) == ("train", "front-left", "boiler", "J"):
-                        assert not hit
+    g = L.STYLES["new"].width_mm / 2
+    for name, view, vp, step, page in _novice_step_pages(examples):
+        new = L._segments([it for it in page.items if isinstance(it, L.Polyline)
+                           and it.role == "stroke_new"])
+        for tx in (it for it in page.items if isinstance(it, L.Text) and it.role == "label"):
+            b = tx.box_mm
+            total += 1
+            hit = bool(len(new)) and L._crossings(
+                new, (b[0] - g, b[1] - g, b[2] + g, b[3] + g)) > 0
+            touching += hit
+            if (name, view, step.part, tx.string) == ("train", "front-left", "boiler", "J"):
+                assert not hit
     assert total > 500 and touching <= 2, (touching, total)
