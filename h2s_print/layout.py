@@ -382,6 +382,8 @@ def clip_polyline(points: Sequence[Pt], box: Box2, closed: bool = False) -> list
     pts = list(points)
     if closed and len(pts) > 2:
         pts = pts + [pts[0]]
+    if len(pts) >= 2 and all(box[0] <= x <= box[2] and box[1] <= y <= box[3] for x, y in pts):
+        return [pts]  # inside whole: one piece, its own points (the clipping would recompute them)
     pieces: list[list[Pt]] = []
     current: list[Pt] = []
     for p, q in zip(pts, pts[1:]):
@@ -573,12 +575,15 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
     drawing = _drawing(view, plan, i)
     items += drawing
-    # the object's lines and the paper corners are what a close-up must not hide
-    kept = [it for it in items if isinstance(it, Polyline)
-            and (it.role.startswith("stroke") or it.role == "corner")]
-    zoom = _close_up(view, step, _segments(items), _segments(kept), room)
+    # each line's segments once: all of them, the object's lines and the paper corners (what a
+    # close-up must not hide), the step's new lines (what a letter keeps off)
+    lines_of = [(it, _segments((it,))) for it in items if isinstance(it, Polyline)]
+    segs = _stack([a for _, a in lines_of])
+    kept = _stack([a for it, a in lines_of if it.role.startswith("stroke") or it.role == "corner"])
+    new = _stack([a for it, a in lines_of if it.role == "stroke_new"])
+    zoom = _close_up(view, step, segs, kept, room)
     if zoom is None:
-        return items + place_labels(view, step.labels, items)
+        return items + place_labels(view, step.labels, items, segs=segs, new=new)
     region, zview, small = zoom
 
     def inside(lb: Label) -> bool:  # labels of what the close-up shows go there
@@ -601,7 +606,8 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
         # the names do not fit the close-up (the oven's five buttons): on the picture
         there = [lb for lb in there if lb.kind == "point"]
         close = place_labels(zview, there, lines + [frames[1]])
-    items += place_labels(view, [lb for lb in step.labels if lb not in there], items)
+    items += place_labels(view, [lb for lb in step.labels if lb not in there], items,
+                          segs=segs, new=new)
     items += [Rect(region[0], region[1], region[2] - region[0], region[3] - region[1],
                    None, 0.0, None, "close_up_region"), frames[0],
               Rect(x0, y0, x1 - x0, y1 - y0, None, 0.0, "white", "close_up")]
@@ -829,6 +835,12 @@ def _segments(items: Sequence[Item]) -> np.ndarray:
     return np.vstack(segs) if segs else np.zeros((0, 4))
 
 
+def _stack(arrays: Sequence[np.ndarray]) -> np.ndarray:
+    """Segment arrays (n, 4) as one."""
+    arrays = [a for a in arrays if len(a)]
+    return np.vstack(arrays) if arrays else np.zeros((0, 4))
+
+
 def _crossings(segs: np.ndarray, box: Box2) -> int:
     """How many of ``segs`` meet the rectangle ``box`` (separating axes: x, y, the segment's
     normal)."""
@@ -843,7 +855,16 @@ def _crossings_many(segs: np.ndarray, boxes: Sequence[Box2]) -> np.ndarray:
         return np.zeros(0, dtype=int)
     if not len(segs):
         return np.zeros(len(boxes), dtype=int)
-    b = np.asarray(boxes, dtype=float)[:, :, None]  # (k, 4, 1)
+    bb = np.asarray(boxes, dtype=float)
+    # only the segments that reach the boxes' common extent can meet one (the same counts;
+    # a picture's hundreds of segments against a few label places round one dot)
+    lo_x, hi_x = np.minimum(segs[:, 0], segs[:, 2]), np.maximum(segs[:, 0], segs[:, 2])
+    lo_y, hi_y = np.minimum(segs[:, 1], segs[:, 3]), np.maximum(segs[:, 1], segs[:, 3])
+    segs = segs[(lo_x <= bb[:, 2].max()) & (hi_x >= bb[:, 0].min())
+                & (lo_y <= bb[:, 3].max()) & (hi_y >= bb[:, 1].min())]
+    if not len(segs):
+        return np.zeros(len(boxes), dtype=int)
+    b = bb[:, :, None]  # (k, 4, 1)
     sx0, sy0, sx1, sy1 = segs.T  # (n,)
     near = ((np.minimum(sx0, sx1) <= b[:, 2]) & (np.maximum(sx0, sx1) >= b[:, 0])
             & (np.minimum(sy0, sy1) <= b[:, 3]) & (np.maximum(sy0, sy1) >= b[:, 1]))  # (k, n)
@@ -863,7 +884,8 @@ def _boxes_overlap(a: Box2, b: Box2) -> bool:
 NEW_LINE_WEIGHT = 3
 
 
-def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) -> list[Item]:
+def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
+                 segs: np.ndarray | None = None, new: np.ndarray | None = None) -> list[Item]:
     """A dot at each label's point and its letters beside it (roles ``label_point`` and
     ``label``; a part's short name, kind ``part``, in blue without a dot, on the part if there
     is room: role ``part_label``), placed so that no two labels overlap each other or another label's dot, every
@@ -872,13 +894,19 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item]) ->
     counting :data:`NEW_LINE_WEIGHT`), each ring further from the dot counting as one line
     crossed (then the preferred direction).
 
+    ``segs`` and ``new``: the segments of ``items``' lines and of the step's new lines
+    (``stroke_new``), when the caller has them already (:func:`_segments`).
+
     Raises:
         RenderError: no place is free for a label (more labels than the picture can hold).
     """
-    segs = _segments(items)
+    if segs is None:
+        segs = _segments(items)
     # the step's new lines are drawn thick, in colour: a letter across one is lost in it (the
     # train's J under the boiler's new edge), so crossing one counts NEW_LINE_WEIGHT lines
-    new = _segments([it for it in items if isinstance(it, Polyline) and it.role == "stroke_new"])
+    if new is None:
+        new = _segments([it for it in items
+                         if isinstance(it, Polyline) and it.role == "stroke_new"])
     dots = [view.map(lb.at_mm) for lb in labels]
     x0, y0, x1, y1 = view.rect
     taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
