@@ -2030,3 +2030,45 @@ def test_an_ellipse_another_part_drew_is_said_not_drawn_again(shared_models):
         for part, k in keys:
             assert seen.setdefault(k, part) == part, (view.name, part, seen[k])
     assert found
+
+
+def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
+    """"Carry FG toward the left vanishing point to Q (by eye), then vertically": the turn
+    Q lies on a face of the part that no anchor of its selected candidate places (both
+    read-throughs: nothing defined Q); a turn said without "(by eye)" lies only on anchored
+    faces of the part (checked on the lettered points' 3D positions and the plan's
+    anchors)."""
+    import re
+
+    from h2s_print.templates import lookup
+
+    eye = lookup("steps", "substep.carry_turn_eye")
+    mark = eye[eye.index("{turns}") + len("{turns}"):eye.index(", then")]  # " (by eye)"
+    pattern = re.compile(r"Carry .*? to ((?:[A-Z]'*(?:, | and )?)+)(" + re.escape(mark)
+                         + r")?, then")
+    counts = {True: 0, False: 0}
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        chosen = plan.chosen()
+        for s in vp.steps:
+            if s.part is None or s.kind not in ("guides", "primitive"):
+                continue
+            cand = chosen[s.part]
+            lo, hi = (np.asarray(v, dtype=float) for v in cand.box)
+            tol = 1e-6 * float(np.linalg.norm(hi - lo))
+            at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}
+            anchored = {(a.axis, a.end) for a in cand.anchors}
+            for x in s.substeps:
+                m = pattern.search(x)
+                if not m:
+                    continue
+                by_eye = m.group(2) is not None
+                for letter in re.findall(r"[A-Z]'*", m.group(1)):
+                    p = at[letter]
+                    ends = {(ax, e) for ax in range(3) for e, v in (("lo", lo), ("hi", hi))
+                            if abs(p[ax] - v[ax]) <= tol}
+                    assert ends, (name, vp.name, s.index, x)
+                    assert by_eye == (not ends <= anchored), (name, vp.name, s.index, x, ends)
+                counts[by_eye] += 1
+    assert counts[True] and counts[False], counts

@@ -627,6 +627,9 @@ class _Context(_Repeats, _Ellipses):
         # which way each carry moves (first leg, turning leg: 3D start and end), for "toward"
         # or "away from" its vanishing point (_Words.vp)
         legs: dict[tuple[int, int | None], tuple[tuple[Vec3, Vec3], ...]] = {}
+        # carries that turn where the part's own face will be, a face no anchor places: the
+        # turn is judged by eye (both read-throughs: "to Q" where nothing defined Q)
+        by_eye_turns: set[tuple[int, int | None]] = set()
         carry_lines: list[_Line] = []
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -682,6 +685,10 @@ class _Context(_Repeats, _Ellipses):
                     runs.append(Pts((a, b)))
                     if turn is not None:  # where it turns, lettered on the picture
                         corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
+                        n = face.normal  # the turn lies in the part's face across n
+                        end = "lo" if face.coord < cand.box[0][n] else "hi"
+                        if not any(a.axis == n and a.end == end for a in cand.anchors):
+                            by_eye_turns.add((first, turn))
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [self.along_edge(self.drawn_before(x, step), drawn)
                           for x in unit.specs if not _draws_known(x, known, self.tol)]
@@ -704,7 +711,8 @@ class _Context(_Repeats, _Ellipses):
             carrying = [spec("carry", lines=Many(tuple(runs)), part=name,
                              vp=words.vp(axis, *legs[axis, turn][0]))
                         if turn is None else
-                        spec("carry_turn", lines=Many(tuple(runs)), part=name,
+                        spec("carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
+                             lines=Many(tuple(runs)), part=name,
                              vp=words.vp(axis, *legs[axis, turn][0]),
                              vp2=words.vp(turn, *legs[axis, turn][-1]),
                              turns=Many(tuple(corners[axis, turn])))

@@ -128,7 +128,7 @@ def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
 
 
 #: Sub-steps that carry lines to the part (the carry unit's).
-_CARRIES = ("carry", "carry_two", "carry_turn", "extend_to")
+_CARRIES = ("carry", "carry_two", "carry_turn", "carry_turn_eye", "extend_to")
 
 
 def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:
