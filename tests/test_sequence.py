@@ -2072,3 +2072,27 @@ def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
                     assert by_eye == (not ends <= anchored), (name, vp.name, s.index, x, ends)
                 counts[by_eye] += 1
     assert counts[True] and counts[False], counts
+
+
+def test_a_part_that_barely_shows_is_only_traced(examples):
+    """The train's coupling, front-left, shows 8.8 mm of line (a sliver behind the engine):
+    it gets no construction step, its lines are in an outline step, and the steps still add
+    up to the finished drawing (a read-through: it had a step and a close-up of its own).
+    A part showing BARELY_MM or more keeps its step."""
+    from h2s_print.sequence.context import BARELY_MM, _ink_mm
+
+    t, plan, views = examples["train"]
+    vp = views[("front-left", "novice")]
+    final = seq.final_strokes(plan, vp.camera, t.sequence)
+    ink = {}
+    for st in final:
+        ink[st.part] = ink.get(st.part, 0.0) + _ink_mm([st])
+    assert 0 < ink["coupling"] < BARELY_MM
+    assert not any(s.part == "coupling" and s.kind in ("primitive", "guides") for s in vp.steps)
+    traced = [st for s in vp.steps if s.kind == "contour" for st in s.strokes
+              if st.part == "coupling"]
+    assert traced and abs(_ink_mm(traced) - ink["coupling"]) < 1e-6
+    placed = " ".join(s.text.lower() for s in vp.steps if s.kind == "primitive")
+    for p, mm in ink.items():  # every part that shows more is placed (its step, or a copy's)
+        if mm >= BARELY_MM:
+            assert p.replace("_", " ") in placed, p

@@ -111,6 +111,12 @@ Decisions where the brief is open (kept here, in one place)
   places it by them, so the train's far wheels, hidden, are no longer drawn to place a near
   wheel that is drawn as a copy anyway.  Each hidden part kept is logged with the parts it
   anchors ("kept though hidden: ..."); the control tutorial keeps the visible parts only.
+  A part whose lines in the finished drawing total under :data:`~.context.BARELY_MM` (10 mm)
+  on the sheet counts as hidden for this, unless it is a copy of a part that shows more (a
+  copy costs one sentence): it gets no construction of its own, and its few lines are traced
+  in the outline steps ("traced only", logged), so the steps still add up to the finished
+  drawing (a read-through: the train's coupling, a 0.6 mm sliver behind the engine, had a
+  step and a close-up of its own).
 * **Levels.**  ``novice`` sees every line (roles ``construction``, ``guide``, ``vanishing``),
   ``apprentice`` the resulting lines and the alignment lines that carry them (``guide``,
   ``vanishing``), ``master`` none.  Novice and apprentice have the same steps and texts (the

@@ -401,7 +401,16 @@ class _Context(_Repeats, _Ellipses):
         if self._parts is not None:
             return self._parts
         names = [p.name for p in self.plan.model.parts]
-        visible = self.visible(self.adjusted)
+        # a part showing under BARELY_MM of line (the train's coupling behind its engine: a
+        # sliver 0.6 mm wide) counts as hidden here: it gets no construction of its own, only
+        # its lines in the outline steps (:meth:`traced_only`); not a copy of a part that
+        # shows more (a copy costs one sentence in its first's step: the plate's dowels)
+        finals = self.finals(self.adjusted)
+        shown = self.visible(self.adjusted)
+        boxes = {p: self.chosen[p].box for p in names}
+        clear = {p for p in shown if _ink_mm(finals[p]) >= BARELY_MM}
+        visible = clear | {p for p in shown - clear
+                           if any(self.congruent(p, q, boxes) for q in sorted(clear))}
         everything = self.closure(visible, {p: self.parents_of(p) for p in names})
         keep = everything
         for _ in range(len(names) + 1):
@@ -417,12 +426,23 @@ class _Context(_Repeats, _Ellipses):
             uses = self.uses(groups, keep)
         left_out = sorted(set(names) - keep)
         if left_out:
-            log.info("left out (hidden, anchoring nothing visible): %s", ", ".join(left_out))
+            log.info("left out (hidden or barely seen, anchoring nothing visible): %s",
+                     ", ".join(left_out))
         for part in sorted(keep - visible):
             users = sorted(q for q in keep if part in uses.get(q, ()))
             log.info("kept though hidden: %s (anchors %s)", part, ", ".join(users) or "nothing")
         self._parts = (groups, keep)
         return self._parts
+
+    def traced_only(self) -> list[str]:
+        """Parts left out of the constructions that still show some line: traced in the
+        outline steps only, so that the steps add up to the finished drawing."""
+        keep = self.guided_parts()[1]
+        finals = self.finals(self.adjusted)
+        out = sorted(p for p in self.visible(self.adjusted) if p not in keep)
+        for p in out:
+            log.info("traced only (%.1f mm of line on the sheet): %s", _ink_mm(finals[p]), p)
+        return out
 
     def uses(self, groups: Sequence[Sequence[str]], keep: set[str]) -> dict[str, set[str]]:
         """Per part, the parts its construction is drawn from (:meth:`guided_parts`)."""
@@ -1029,7 +1049,7 @@ class _Context(_Repeats, _Ellipses):
                         continue
                 drawn_ellipses.setdefault(key, (d.part, here))
                 drafts.append(replace(d, specs=tuple(self.drawn_before(x, here) for x in d.specs)))
-            contours = self.contour_drafts(order, self.adjusted)
+            contours = self.contour_drafts(order + self.traced_only(), self.adjusted)
             merged: list[_Draft] = []
             at: dict[str, int] = {}
             for d in contours:  # a group's outlines together, where its first one comes
@@ -1189,6 +1209,17 @@ def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:
         if not any(_same_segment(ln.start, ln.end, o.start, o.end, tol) for o in out):
             out.append(ln)
     return out
+
+
+#: A part whose lines in the finished drawing total less than this on the sheet (mm) is not
+#: constructed: a teacher does not block in what barely shows (:meth:`_Context.guided_parts`).
+BARELY_MM = 10.0
+
+
+def _ink_mm(strokes: Sequence[Stroke]) -> float:
+    """Total length of ``strokes`` on the sheet, mm."""
+    return float(sum(np.linalg.norm(np.diff(np.asarray(st.points_mm, dtype=float), axis=0),
+                                    axis=1).sum() for st in strokes))
 
 
 def _numbering(plan: Any, chosen: dict[str, Any]) -> list[str]:
