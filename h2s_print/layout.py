@@ -617,8 +617,19 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
     # beside the picture on its right, or too long to run right from its left edge within
     # the picture (a German caption ran off the page): the caption ends at its right edge
     caption = _t("step.close_up")
-    right = x0 > view.rect[2] or (
-        x0 + text_width_mm(caption, size, "Helvetica-Oblique") > view.rect[2])
+    if x0 > view.rect[2] or x1 < view.rect[0]:
+        # beside the picture: wrapped to the close-up's column, so that it never runs into
+        # the picture (a read-through: the roller's and the desk's ran across its border)
+        width = max(x1 - x0, CLOSE_UP_CAPTION_MIN_MM)
+        rows = wrap(caption, width, size, "Helvetica-Oblique")
+        left = x1 < view.rect[0]  # left of the picture: the column ends at the close-up's edge
+        step_y = cap + 1.0
+        for k, row in enumerate(rows):
+            y = y0 - 1.0 - cap - k * step_y if below else y1 + 1.0 + (len(rows) - 1 - k) * step_y
+            items.append(Text(x1 if left else x0, y, row, size, "Helvetica-Oblique",
+                              "end" if left else "start", "green", "close_up_caption"))
+        return items + lines + [frames[1]] + close
+    right = x0 + text_width_mm(caption, size, "Helvetica-Oblique") > view.rect[2]
     items.append(Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0,
                       caption, size, "Helvetica-Oblique", "end" if right else "start",
                       "green", "close_up_caption"))
@@ -646,6 +657,8 @@ CLOSE_UP_PAD_MM = 3.0
 #: (the room for it is kept, :func:`_close_up`).
 CLOSE_UP_INSET_MM = 1.5
 CLOSE_UP_CAPTION_PT = 6.5
+#: A caption beside the picture is wrapped to its close-up's width, but no narrower than this.
+CLOSE_UP_CAPTION_MIN_MM = 24.0
 #: A step whose new lines all fit in a square this wide on the picture (page mm) draws a part
 #: too small to follow (the oven's five buttons, one orange blob 8 mm wide): it gets a
 #: close-up too, magnified toward :data:`CLOSE_UP_SMALL_TARGET_MM` across.

@@ -964,3 +964,25 @@ def test_letters_keep_off_the_step_s_new_lines(examples):
             if (name, view, step.part, tx.string) == ("train", "front-left", "boiler", "J"):
                 assert not hit
     assert total > 500 and touching <= 2, (touching, total)
+
+
+def test_a_close_up_beside_the_picture_keeps_its_caption_out_of_the_picture(examples):
+    """A close-up set beside the picture has its caption wrapped to its column: no caption
+    line reaches into the picture (a read-through: the roller's and the desk's ran across
+    its border)."""
+    beside = 0
+    for name, view, vp, step, page in _novice_step_pages(examples):
+        zoom = _close_up_of(page)
+        if zoom is None:
+            continue
+        rect, _ = _pictures(page, vp)[0]
+        close = zoom[1]
+        if rect.x_mm <= close.x_mm <= rect.x_mm + rect.w_mm:
+            continue  # inside the picture
+        beside += 1
+        for tx in (it for it in page.items if isinstance(it, L.Text)
+                   and it.role == "close_up_caption"):
+            b = tx.box_mm
+            assert b[2] <= rect.x_mm + 1e-6 or b[0] >= rect.x_mm + rect.w_mm - 1e-6, (
+                name, view, step.index, tx.string)
+    assert beside
