@@ -508,8 +508,10 @@ def test_lines_carried_in_a_guides_step_stay_until_the_part_is_drawn_on_them(exa
             shown = {g.id for g in placing.guides}
             assert all(g in shown for g in carried), (name, vp.name, s.index)
             # and the placing step says so, citing the step that carried them
-            said = lookup("steps", "substep.reuse_carried").format(step=s.index)
-            assert said in placing.substeps, (name, vp.name, placing.substeps)
+            said = lookup("steps", "substep.reuse_carried").format(step=s.index).rstrip(".")
+            # "Use the lines carried in step 9." or "... in step 9 for its back."
+            assert any(x.split(". ", 1)[-1].startswith(said) for x in placing.substeps), (
+                name, vp.name, placing.substeps)
             checked += 1
     assert checked
 
@@ -1733,7 +1735,7 @@ def test_a_placing_step_says_whether_its_lines_were_carried_or_extended(examples
                 for head, kind in ((carried_at, "carried"), (extended_at, "extended")):
                     if not body.startswith(head):
                         continue
-                    n = int(body[len(head):].rstrip("."))
+                    n = int(re.match(r"\d+", body[len(head):]).group(0))
                     cited = vp.steps[n - 1].substeps
                     carries = any(y.split(". ", 1)[-1].startswith(carry) for y in cited)
                     extends = any(y.split(". ", 1)[-1].startswith(extend) for y in cited)
@@ -2096,3 +2098,33 @@ def test_a_part_that_barely_shows_is_only_traced(examples):
     for p, mm in ink.items():  # every part that shows more is placed (its step, or a copy's)
         if mm >= BARELY_MM:
             assert p.replace("_", " ") in placed, p
+
+
+def test_carried_lines_cited_say_which_sides_of_the_part_they_place(examples):
+    """"Use the lines carried in step 7 for its middle (left to right), back and front": each
+    side named is an anchored end of the part's selected candidate (a read-through: "Use the
+    lines extended in step 4" did not say what they place)."""
+    from h2s_print.templates import lookup
+
+    heads = [lookup("steps", f"substep.{k}").split("{step}")[0]
+             for k in ("reuse_carried_for", "reuse_extended_for")]
+    mid = lookup("steps", "substep.reuse_carried_for").split("{step}")[1].split("{sides}")[0]
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            words = seq_context._context(plan, view, t.paper, t.sequence).words
+            side_of = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi", "mid")}
+            vp = views[(view.name, "novice")]
+            for s in vp.steps:
+                for x in s.substeps:
+                    body = x.split(". ", 1)[-1]
+                    if not any(body.startswith(h) for h in heads) or mid not in body:
+                        continue
+                    listed = body.split(mid, 1)[1].rstrip(".")
+                    names = [n.strip() for n in re.split(r", | and ", listed)]
+                    anchored = {(a.axis, a.end) for a in chosen[s.part].anchors}
+                    for n in names:
+                        assert side_of[n] in anchored, (name, view.name, s.index, x)
+                    checked += 1
+    assert checked

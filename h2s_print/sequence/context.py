@@ -651,6 +651,7 @@ class _Context(_Repeats, _Ellipses):
         # turn is judged by eye (both read-throughs: "to Q" where nothing defined Q)
         by_eye_turns: set[tuple[int, int | None]] = set()
         carry_lines: list[_Line] = []
+        carried_anchors: list[Any] = []  # the anchors whose lines are carried to the part
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
                                      points_key((con.result.start, con.result.end), self.tol)),
@@ -694,6 +695,7 @@ class _Context(_Repeats, _Ellipses):
                 unit.results.append((a, b))
             unit.lines += own
             if carry:
+                carried_anchors.append(anchor)
                 carry_lines += carry
                 first, *rest = [_moving_axis(c) for c in carry]
                 turn = next((x for x in rest if x != first), None)  # around a corner: then this
@@ -742,7 +744,8 @@ class _Context(_Repeats, _Ellipses):
         carry_unit: _Unit | None = None
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             carry_unit = units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part,
-                                                   carrying, carry_lines)
+                                                   carrying, carry_lines,
+                                                   carried_for=carried_anchors)
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
             if anchor.end == "mid":                       # straddles a line

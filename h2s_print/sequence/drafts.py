@@ -87,6 +87,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     cited: dict[int, list[Pts]] = {}
     sides: dict[int, list[str]] = {}
     carried: dict[int, bool] = {}  # step -> carried (True) or only extended (False)
+    moved_sides: dict[int, list[str]] = {}  # step -> the sides its carried lines place
     moved = _carried(groups)
     for k, g in enumerate(groups):
         for u in g:
@@ -99,6 +100,8 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
             if any(x.key in _CARRIES for x in u.specs):
                 carried[step + k] = carried.get(step + k, False) or any(
                     x.key in _CARRIES and x.key != "extend_to" for x in u.specs)
+                if side_of is not None:
+                    moved_sides.setdefault(step + k, []).extend(side_of(a) for a in u.carried_for)
     out = []
     for n, lines in sorted(cited.items()):
         said = list(dict.fromkeys(sides.get(n, ())))
@@ -106,8 +109,13 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                    if said else spec("reuse", line=Many(tuple(lines)), step=n))
     # lines only extended are said so (a read-through: "the lines carried in step 4" where
     # step 4 had extended them)
-    return out + [spec("reuse_carried" if moved_too else "reuse_extended", step=n)
-                  for n, moved_too in carried.items()]
+    # and, as for lines cited, what they place (a read-through: "Use the lines extended in
+    # step 4" did not say they place the bowl's front and bottom)
+    for n, moved_too in carried.items():
+        key = "reuse_carried" if moved_too else "reuse_extended"
+        said = list(dict.fromkeys(moved_sides.get(n, ())))
+        out.append(spec(f"{key}_for", step=n, sides=_join(said)) if said else spec(key, step=n))
+    return out
 
 
 def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
@@ -154,6 +162,7 @@ class _Unit:
     room: bool = False  # a construction that needs room on the face (not only edges)
     anchors: list[Any] = field(default_factory=list)
     origin: dict[int, int] = field(default_factory=dict)  # result index -> step that drew it
+    carried_for: list[Any] = field(default_factory=list)  # anchors whose lines it carries
 
 
 def _merged_outlines(prev: _Draft, d: _Draft, say: Any) -> _Draft:
