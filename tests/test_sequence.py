@@ -558,10 +558,11 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
             continue
         ctx = seq_context._context(plan, [v for v in t.views if v.name == vp.name][0], t.paper,
                            t.sequence)
+        traced = set(ctx.traced_only())  # barely seen: traced, never named
         for st in vp.steps:
             if st.kind != "contour":
                 continue
-            parts = list(dict.fromkeys(s.part for s in st.strokes))
+            parts = [q for q in dict.fromkeys(s.part for s in st.strokes) if q not in traced]
             said = [x for x in st.substeps if x.startswith(one) or x.startswith(many)]
             round_ = [p for p in parts if plan.primitive(p).type == "cylinder"
                       and seq_geometry._round(plan.primitive(p))]
@@ -1975,8 +1976,9 @@ def test_several_guides_steps_for_one_part_are_numbered(examples):
 
 def test_an_outline_step_traces_a_few_shapes_at_a_time(examples):
     """At most OUTLINE_SHAPES distinct shapes a contour step (a part's copies count once, here
-    by their name without its number): a read-through met the oven's ten parts traced in one
-    step from a small picture; the camera's front-left view traced five in one."""
+    by their name without its number; a part that barely shows is traced unnamed and does not
+    count): a read-through met the oven's ten parts traced in one step from a small picture;
+    the camera's front-left view traced five in one."""
     from h2s_print.names import stem
     from h2s_print.sequence.ellipses import OUTLINE_SHAPES
 
@@ -1984,11 +1986,13 @@ def test_an_outline_step_traces_a_few_shapes_at_a_time(examples):
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
             continue
+        view = next(v for v in t.views if v.name == vp.name)
+        traced = set(seq_context._context(plan, view, t.paper, t.sequence).traced_only())
         for s in vp.steps:
             if s.kind != "contour":
                 continue
             shapes = {stem(n) or n for n in (st.part.replace("_", " ") for st in s.strokes
-                                              if st.kind == "contour")}
+                                              if st.kind == "contour" and st.part not in traced)}
             assert len(shapes) <= OUTLINE_SHAPES, (name, vp.name, s.index, sorted(shapes))
             checked += 1
     assert checked
@@ -2128,3 +2132,20 @@ def test_carried_lines_cited_say_which_sides_of_the_part_they_place(examples):
                         assert side_of[n] in anchored, (name, view.name, s.index, x)
                     checked += 1
     assert checked
+
+
+def test_a_part_traced_only_is_not_named(examples):
+    """The train's wheel 4 shows 0.3 mm of line (high-right) and its coupling 8.8 mm
+    (front-left): their lines are traced in an outline step, but no headline names them (a
+    read-through: "wheel 4" named where nothing of it showed)."""
+    t, plan, views = examples["train"]
+    for view in t.views:
+        ctx = seq_context._context(plan, view, t.paper, t.sequence)
+        vp = views[(view.name, "novice")]
+        traced = ctx.traced_only()
+        assert traced, view.name
+        for p in traced:
+            steps = [s for s in vp.steps if s.kind == "contour"
+                     and any(st.part == p for st in s.strokes)]
+            assert len(steps) == 1, (view.name, p)
+            assert ctx.say(p) not in steps[0].headline.lower(), (view.name, p, steps[0].headline)

@@ -61,6 +61,7 @@ from .drafts import (
 from .ellipses import _Ellipses
 from .geometry import (
     ALONG_MM,
+    TINY_LOOP_MM,
     _anchor_lines,
     _box_corners,
     _contour_strokes,
@@ -409,8 +410,8 @@ class _Context(_Repeats, _Ellipses):
         shown = self.visible(self.adjusted)
         boxes = {p: self.chosen[p].box for p in names}
         clear = {p for p in shown if _ink_mm(finals[p]) >= BARELY_MM}
-        visible = clear | {p for p in shown - clear
-                           if any(self.congruent(p, q, boxes) for q in sorted(clear))}
+        visible = clear | {p for p in shown - clear if _ink_mm(finals[p]) >= TINY_LOOP_MM
+                           and any(self.congruent(p, q, boxes) for q in sorted(clear))}
         everything = self.closure(visible, {p: self.parents_of(p) for p in names})
         keep = everything
         for _ in range(len(names) + 1):
@@ -1052,10 +1053,22 @@ class _Context(_Repeats, _Ellipses):
                         continue
                 drawn_ellipses.setdefault(key, (d.part, here))
                 drafts.append(replace(d, specs=tuple(self.drawn_before(x, here) for x in d.specs)))
-            contours = self.contour_drafts(order + self.traced_only(), self.adjusted)
+            traced = self.traced_only()
+            contours = self.contour_drafts(order + traced, self.adjusted)
             merged: list[_Draft] = []
             at: dict[str, int] = {}
+            unnamed: list[Stroke] = []  # lines of parts only traced, not yet in a step
             for d in contours:  # a group's outlines together, where its first one comes
+                if d.part in traced:  # its few lines go with the outlines traced around them,
+                    # unnamed (a read-through: "wheel 4" named where nothing of it showed)
+                    if merged:
+                        merged[-1] = replace(merged[-1], strokes=merged[-1].strokes + d.strokes)
+                    else:
+                        unnamed += d.strokes
+                    continue
+                if unnamed:
+                    d = replace(d, strokes=tuple(unnamed) + d.strokes)
+                    unnamed = []
                 head = lead.get(d.part, d.part)
                 if head in at:
                     k = at[head]
