@@ -710,9 +710,7 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
         tries.append((letters, wanted))
         # the letters that crowd each other, in groups (each letter with every letter closer
         # than CLOSE_UP_CROWDED_MM to one of its group): the largest group, if not all
-        group = [0] * len(pts)
-        for k in range(len(pts)):
-            group[k] = k
+        group = list(range(len(pts)))
         for k, p in enumerate(pts):
             for j in range(k):
                 if math.dist(p, pts[j]) < CLOSE_UP_CROWDED_MM:
@@ -845,7 +843,7 @@ def _segments(items: Sequence[Item]) -> np.ndarray:
             if it.closed:
                 pts = np.vstack([pts, pts[:1]])
             segs.append(np.hstack([pts[:-1], pts[1:]]))
-    return np.vstack(segs) if segs else np.zeros((0, 4))
+    return _stack(segs)
 
 
 def _stack(arrays: Sequence[np.ndarray]) -> np.ndarray:
@@ -873,14 +871,15 @@ def _crossings_many(segs: np.ndarray, boxes: Sequence[Box2]) -> np.ndarray:
     # a picture's hundreds of segments against a few label places round one dot)
     lo_x, hi_x = np.minimum(segs[:, 0], segs[:, 2]), np.maximum(segs[:, 0], segs[:, 2])
     lo_y, hi_y = np.minimum(segs[:, 1], segs[:, 3]), np.maximum(segs[:, 1], segs[:, 3])
-    segs = segs[(lo_x <= bb[:, 2].max()) & (hi_x >= bb[:, 0].min())
-                & (lo_y <= bb[:, 3].max()) & (hi_y >= bb[:, 1].min())]
-    if not len(segs):
+    reach = ((lo_x <= bb[:, 2].max()) & (hi_x >= bb[:, 0].min())
+             & (lo_y <= bb[:, 3].max()) & (hi_y >= bb[:, 1].min()))
+    if not reach.any():
         return np.zeros(len(boxes), dtype=int)
+    segs, lo_x, hi_x, lo_y, hi_y = (a[reach] for a in (segs, lo_x, hi_x, lo_y, hi_y))
     b = bb[:, :, None]  # (k, 4, 1)
     sx0, sy0, sx1, sy1 = segs.T  # (n,)
-    near = ((np.minimum(sx0, sx1) <= b[:, 2]) & (np.maximum(sx0, sx1) >= b[:, 0])
-            & (np.minimum(sy0, sy1) <= b[:, 3]) & (np.maximum(sy0, sy1) >= b[:, 1]))  # (k, n)
+    near = ((lo_x <= b[:, 2]) & (hi_x >= b[:, 0])
+            & (lo_y <= b[:, 3]) & (hi_y >= b[:, 1]))  # (k, n)
     dx, dy = sx1 - sx0, sy1 - sy0
     corners = ((b[:, 0], b[:, 1]), (b[:, 2], b[:, 1]), (b[:, 2], b[:, 3]), (b[:, 0], b[:, 3]))
     sides = np.stack([dx * (cy - sy0) - dy * (cx - sx0) for cx, cy in corners])  # (4, k, n)

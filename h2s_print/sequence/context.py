@@ -698,12 +698,13 @@ class _Context(_Repeats, _Ellipses):
             if carry:
                 carried_anchors.append(anchor)
                 carry_lines += carry
-                first, *rest = [_moving_axis(c) for c in carry]
-                turn = next((x for x in rest if x != first), None)  # around a corner: then this
+                axes = [_moving_axis(c) for c in carry]
+                first = axes[0]
+                turn = next((x for x in axes[1:] if x != first), None)  # around a corner
                 runs = carried.setdefault((first, turn), [])
-                legs.setdefault((first, turn), tuple(
-                    (c.start, c.end) for c in (carry[0], *[c for c in carry[1:]
-                                                           if _moving_axis(c) == turn][:1])))
+                # the first leg, and the first line along the turn
+                legs.setdefault((first, turn), ((carry[0].start, carry[0].end),) + tuple(
+                    (c.start, c.end) for c, x in zip(carry[1:], axes[1:]) if x == turn)[:1])
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
                     if turn is not None:  # where it turns, lettered on the picture

@@ -65,10 +65,9 @@ class _Words:
                 continue
             key = keys[vp.axis]
             clash = sum(1 for k in keys.values() if k == key) > 1
-            self.vps[vp.axis] = (_t(f"vp.{key}_of", edges=edges[vp.axis]) if clash
-                                 else _t(f"vp.{key}"))
-            self.away[vp.axis] = (_t(f"vp_away.{key}_of", edges=edges[vp.axis]) if clash
-                                  else _t(f"vp_away.{key}"))
+            for section, phrases in (("vp", self.vps), ("vp_away", self.away)):
+                phrases[vp.axis] = (_t(f"{section}.{key}_of", edges=edges[vp.axis]) if clash
+                                    else _t(f"{section}.{key}"))
         xs = [Face(bounds, 0, end) for end in ("lo", "hi")]
         cx = camera.project(np.array([np.mean(np.asarray(f.corners, dtype=float), axis=0)
                                       for f in xs]))[:, 0]
