@@ -614,8 +614,6 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
     # its caption outside it, on the side toward the middle of the picture
     size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
     below = (y0 + y1) / 2 > (view.rect[1] + view.rect[3]) / 2
-    # beside the picture on its right, or too long to run right from its left edge within
-    # the picture (a German caption ran off the page): the caption ends at its right edge
     caption = _t("step.close_up")
     if x0 > view.rect[2] or x1 < view.rect[0]:
         # beside the picture: wrapped to the close-up's column, so that it never runs into
@@ -629,6 +627,8 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
             items.append(Text(x1 if left else x0, y, row, size, "Helvetica-Oblique",
                               "end" if left else "start", "green", "close_up_caption"))
         return items + lines + [frames[1]] + close
+    # in the picture, too long to run right from its left edge within the picture (a German
+    # caption ran off the page): the caption ends at its right edge
     right = x0 + text_width_mm(caption, size, "Helvetica-Oblique") > view.rect[2]
     items.append(Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0,
                       caption, size, "Helvetica-Oblique", "end" if right else "start",
