@@ -867,23 +867,30 @@ class _Generator:
             free = np.concatenate([np.zeros(len(pi)), np.ones(len(pool))])
         if not len(first):
             return []
-        two = second >= 0
-        sec = np.where(two, second, first)
-        # validity within the change limit (_within, on arrays) and, along this axis, of the
-        # preserved relations with the parents (on arrays: per parent candidate)
+        # validity within the change limit (_within, on arrays); every later test, cost and
+        # rank only on the rows that pass it (the ranks' ties go by row order either way)
         base, ext, mid = _change_terms(orig, axis, mc)
         limit = base + _EPS * np.maximum(1.0, np.maximum(np.abs(los), np.abs(his)))
-        valid = (np.abs((his - los) - ext) <= limit) & (np.abs(0.5 * (los + his) - mid) <= limit)
+        keep = np.nonzero((np.abs((his - los) - ext) <= limit)
+                          & (np.abs(0.5 * (los + his) - mid) <= limit))[0]
+        if not len(keep):
+            return []
+        first, second, los, his, free = (first[keep], second[keep], los[keep], his[keep],
+                                         free[keep])
+        two = second >= 0
+        sec = np.where(two, second, first)
+        valid = np.ones(len(first), dtype=bool)
+        # along this axis, the preserved relations with the parents (per parent candidate)
         pairs = self.preserved_pairs()
-        for c in range(int(parent.max()) + 1):
-            e = pool[int(np.argmax(parent == c))]
-            rels = pairs.get((part, e.parent_part), ())
+        codes, at_first = np.unique(parent, return_index=True)
+        for c, e in zip(codes.tolist(), at_first.tolist()):
+            rels = pairs.get((part, pool[e].parent_part), ())
             if not rels:
                 continue
             uses = (parent[first] == c) | (two & (parent[sec] == c))
             if not uses.any():
                 continue
-            pbox = self.ctx.cands[e.anchor.parent].box
+            pbox = self.ctx.cands[pool[e].anchor.parent].box
             p_lo, p_hi = pbox[0][axis], pbox[1][axis]
             o_lo, o_hi = los[uses], his[uses]
             ok = np.ones(len(o_lo), dtype=bool)
@@ -919,36 +926,34 @@ class _Generator:
         r_second = np.where(two & (second != first), key_rank[sec], -1)
         order = np.lexsort((r_second, r_first, his, los, score))
         order = order[valid[order]]
+        if not len(order):
+            return []
         # groups: the parent parts used, and whether a fresh parent is among them
-        g_first, g_second = pp[first], np.where(two, pp[sec], -1)
-        g_lo, g_hi = np.minimum(g_first, np.where(two, g_second, g_first)), np.maximum(
-            g_first, g_second)
-        is_fresh = np.array([bool(fresh) and e.anchor.parent in fresh for e in pool])
-        g_fresh = is_fresh[first] | (two & is_fresh[sec])
-        n_codes = int(pp.max()) + 2  # codes and the -1 of a single end
-        _, group = np.unique(((g_lo + 1) * n_codes + (g_hi + 1)) * 2 + g_fresh,
-                             return_inverse=True)
-        group = group.ravel()
         if total is None:
-            group = np.zeros_like(group)
-        left = np.bincount(group[order], minlength=int(group.max()) + 1).tolist()
-        taken = [0] * len(left)
-        open_groups = sum(1 for n in left if n)  # groups that may still take an option
-        accepted: list[tuple[int, int, int]] = []  # (place in group, rank, row)
-        groups = group[order].tolist()
-        for x, g in zip(order.tolist(), groups):
-            left[g] -= 1
-            if taken[g] < per_group:
-                accepted.append((taken[g], len(accepted), x))
-                taken[g] += 1
-                if taken[g] == per_group or left[g] == 0:
-                    open_groups -= 1
-                    if not open_groups:
-                        break  # every group has its options, or none left
+            group = np.zeros(len(order), dtype=np.int64)
+        else:
+            g_first, g_second = pp[first], np.where(two, pp[sec], -1)
+            g_lo = np.minimum(g_first, np.where(two, g_second, g_first))
+            g_hi = np.maximum(g_first, g_second)
+            is_fresh = np.array([bool(fresh) and e.anchor.parent in fresh for e in pool])
+            g_fresh = is_fresh[first] | (two & is_fresh[sec])
+            n_codes = int(pp.max()) + 2  # codes and the -1 of a single end
+            group = (((g_lo + 1) * n_codes + (g_hi + 1)) * 2 + g_fresh)[order]
+        # each option's place in its group (0 for its group's cheapest); the first
+        # ``per_group`` of each group are kept, then of those the first ``total`` by
+        # (place, rank), returned in rank order
+        by_group = np.argsort(group, kind="stable")
+        sorted_groups = group[by_group]
+        starts = np.flatnonzero(np.r_[True, sorted_groups[1:] != sorted_groups[:-1]])
+        sizes = np.diff(np.r_[starts, len(order)])
+        place = np.empty(len(order), dtype=np.int64)
+        place[by_group] = np.arange(len(order)) - np.repeat(starts, sizes)
+        kept_at = np.flatnonzero(place < per_group)
         if total is not None:
-            accepted = sorted(sorted(accepted)[:total], key=lambda t: t[1])
+            kept_at = np.sort(kept_at[np.lexsort((kept_at, place[kept_at]))][:total])
+        rows = order[kept_at].tolist()
         return [self._option(pool, int(first[x]), int(second[x]), float(los[x]),
-                             float(his[x]), int(free[x]), axis, orig) for _, _, x in accepted]
+                             float(his[x]), int(free[x]), axis, orig) for x in rows]
 
     def _option(self, pool: Sequence[_End], i: int, j: int, lo: float, hi: float, free: int,
                 axis: int, orig: Box) -> _AxisOption:
