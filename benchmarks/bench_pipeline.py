@@ -149,7 +149,7 @@ def measure(config: Path) -> dict[str, Any]:
     from h2s_print.fit import fit_primitives
     from h2s_print.layout import lay_out_workbook
     from h2s_print.load import load_model
-    from h2s_print.plan import Plan, refine
+    from h2s_print.plan import Plan, part_farness, refine
     from h2s_print.relate import detect_relations
     from h2s_print.render import pdf_bytes
     from h2s_print.select import select_candidates
@@ -169,8 +169,9 @@ def measure(config: Path) -> dict[str, Any]:
     prims = timed("fit", fit_primitives, model)
     rels = timed("relate", detect_relations, prims)
     cands = timed("cand", generate_candidates, prims, rels, t.solver)
-    sel = timed("select", select_candidates, cands, rels, t.solver)
-    cands, sel = timed("refine", refine, prims, rels, t.solver, cands, sel)
+    far = part_farness(prims, t.views)  # ties nearest first, as build_plan
+    sel = timed("select", select_candidates, cands, rels, t.solver, farness=far)
+    cands, sel = timed("refine", refine, prims, rels, t.solver, cands, sel, far)
     plan = Plan(model, prims, rels, tuple(cands) + tuple(sel.stand_ins), sel, t.solver)
 
     # contour work called from the sequence stage, timed apart

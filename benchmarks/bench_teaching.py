@@ -199,7 +199,7 @@ def beyond(plan: Plan) -> list[str]:
 def measure(tutorial: TutorialConfig) -> dict[str, Any]:
     """Every figure of one model (module docstring), raw."""
     t0 = time.perf_counter()
-    plan = build_plan(tutorial.model, tutorial.solver)
+    plan = build_plan(tutorial.model, tutorial.solver, tutorial.views)
     plan_s = time.perf_counter() - t0
     views: dict[str, dict[str, ViewPlan]] = {}
     for view in tutorial.views:

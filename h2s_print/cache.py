@@ -32,10 +32,10 @@ import json
 import logging
 from dataclasses import asdict
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 from . import __version__
-from .config import ModelSpec, SolverSettings
+from .config import ModelSpec, SolverSettings, ViewSpec
 from .errors import H2SError
 from .files import write_bytes_atomic
 from .planfile import decode, encode
@@ -104,9 +104,11 @@ def source_hash(package: Path) -> str:
     return h.hexdigest()
 
 
-def plan_key(spec: ModelSpec, settings: SolverSettings) -> str | None:
-    """The content hash (64 hex digits) of everything stages 1-5 read; ``None`` when the model
-    files cannot be read (then nothing is cached and the loader reports the problem)."""
+def plan_key(spec: ModelSpec, settings: SolverSettings,
+             views: Sequence[ViewSpec] = ()) -> str | None:
+    """The content hash (64 hex digits) of everything stages 1-5 read (of the views, the eyes
+    that break the selection's ties: ``plan.part_farness``); ``None`` when the model files
+    cannot be read (then nothing is cached and the loader reports the problem)."""
     try:
         files = [[name, _file_sha(f)] for name, f in model_files(spec.path)]
     except OSError:
@@ -118,6 +120,7 @@ def plan_key(spec: ModelSpec, settings: SolverSettings) -> str | None:
         "model": {"path": str(spec.path), "up": spec.up, "units": spec.units,
                   "parts": asdict(spec.parts)},
         "solver": asdict(settings),
+        "eyes": [[v.azimuth_deg, v.elevation_deg, v.distance] for v in views],
         "files": files,
     }
     text = json.dumps(doc, sort_keys=True, separators=(",", ":"), default=str)

@@ -195,7 +195,8 @@ def get_plan(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
     from . import cache
 
     progress = progress or _quiet
-    key = cache.plan_key(tutorial.model, tutorial.solver) if cache_dir is not None else None
+    key = (cache.plan_key(tutorial.model, tutorial.solver, tutorial.views)
+           if cache_dir is not None else None)
     plan = cache.load_plan(cache_dir, key) if key is not None else None
     cached = plan is not None
     start = time.perf_counter()
@@ -203,7 +204,7 @@ def get_plan(tutorial: TutorialConfig, *, cache_dir: Path | None = None,
         progress(Event(tutorial.name, "plan", "solving the plan (load, fit, relate, candidates, "
                        "select)"))
         try:
-            plan = build_plan(tutorial.model, tutorial.solver)
+            plan = build_plan(tutorial.model, tutorial.solver, tutorial.views)
         except H2SError as exc:
             raise in_config(exc, tutorial.path, _plan_field(exc)) from None
         if key is not None:

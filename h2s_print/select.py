@@ -26,6 +26,17 @@ One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
 
 Objective: ``min Σ χ(c) · (w_adjust E_d(c) + w_difficulty E_e(c))``.
 
+Ties go nearest first (the paper's rule among parts of similar size).  Selections of equal
+cost are common: identical parts in mirror image (the train's left and right wheels) cost the
+same whichever is drawn by eye and whichever hangs off the other, and SCIP then picks one of
+them by chance (the train's novice tutorials drew the hidden far wheel by eye and the near one
+from it).  Given ``farness`` (part -> 0 for the part nearest the tutorial's eyes .. 1 for the
+farthest, ``plan.part_farness``), each candidate's objective coefficient gets
+``TIE_BREAK · t(c)``, ``t`` the part's own farness for an original (drawn by eye) and the mean
+farness of its parents' parts for an anchored candidate; :data:`TIE_BREAK` is 1e-6, so it
+decides only between selections whose costs differ by less than 1e-6 per part.  The reported
+objective is the cost alone.
+
 Two formulations of the same problem (``settings.formulation``):
 
 * ``quadratic`` (the paper's): ``χ(c) χ(p) − χ(c) ≥ 0`` per parent and, per preserved
@@ -59,7 +70,7 @@ import itertools
 import logging
 import math
 from dataclasses import dataclass, field
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 from pyscipopt import Model, quicksum
 
@@ -200,12 +211,13 @@ def _check(candidates: Sequence[Candidate], relations: Sequence[Relation],
 def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[Relation],
                           settings: SolverSettings, *, shallow: bool = False,
                           exclude: Sequence[Sequence[str]] = (),
-                          hint: Sequence[str] = ()) -> SelectionModel:
+                          hint: Sequence[str] = (),
+                          farness: Mapping[str, float] | None = None) -> SelectionModel:
     """Build (do not solve) the SCIP model for ``settings.formulation``; ``shallow`` limits
     stand-ins to candidates no deeper than the parent (module docstring); each selection in
     ``exclude`` (candidate ids) is cut off; ``hint``, a selection (candidate ids, one per
     part), is handed to SCIP as a start solution besides the all-originals one when it is
-    one.
+    one; ``farness`` (part -> [0, 1]) breaks ties nearest first (module docstring).
 
     Raises:
         SelectionError: unknown formulation, duplicate ids, dangling parents.
@@ -279,7 +291,9 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
     for k, sel in enumerate(exclude):
         scip.addCons(quicksum(pick[i] for i in sel) <= len(sel) - 1, name=f"cycle[{k}]")
         n += 1
-    scip.setObjective(quicksum(costs[c.id] * pick[c.id] for c in cands), sense="minimize")
+    ties = tie_breaks(cands, farness or {})
+    scip.setObjective(quicksum((costs[c.id] + ties[c.id]) * pick[c.id] for c in cands),
+                      sense="minimize")
 
     def offer(ids: Sequence[str]) -> bool:
         """Hand SCIP a start solution; False when it is not one."""
@@ -357,6 +371,25 @@ def solve_selection_model(model: SelectionModel) -> Selection:
                      weight_adjust=settings.weight_adjust,
                      weight_difficulty=settings.weight_difficulty,
                      max_change=settings.max_change, stand_ins=stand_ins)
+
+
+#: Weight of the nearest-first tie-break per candidate (module docstring).
+TIE_BREAK = 1e-6
+
+
+def tie_breaks(cands: Sequence[Candidate], farness: Mapping[str, float]) -> dict[str, float]:
+    """Each candidate's tie-break term: :data:`TIE_BREAK` times its part's farness for an
+    original, the mean farness of its parents' parts for an anchored one (0 without
+    ``farness``)."""
+    if not farness:
+        return {c.id: 0.0 for c in cands}
+    part_of = {c.id: c.part for c in cands}
+    out = {}
+    for c in cands:
+        far = ([farness.get(c.part, 0.0)] if not c.parents
+               else [farness.get(part_of.get(p, ""), 0.0) for p in c.parents])
+        out[c.id] = TIE_BREAK * math.fsum(far) / len(far)
+    return out
 
 
 def substitutes(cands: Sequence[Candidate], *, shallow: bool = False
@@ -449,13 +482,15 @@ def _stand_in(cands: Sequence[Candidate], subs: dict[tuple[str, str], tuple[str,
 
 def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relation],
                       settings: SolverSettings, *, shallow: bool = False,
-                      hint: Sequence[str] = ()) -> Selection:
+                      hint: Sequence[str] = (),
+                      farness: Mapping[str, float] | None = None) -> Selection:
     """Choose one candidate per part: valid (eq. 1-3) and of least weighted cost.
 
     Args:
         candidates: every candidate (``generate_candidates``), originals included.
         relations: all relations; those with ``detail["preserved"]`` must be kept.
         settings: ``formulation``, ``time_limit_s``, weights, ``max_change`` (reported).
+        farness: part -> [0, 1], ties nearest first (module docstring); none without.
 
     Returns:
         the selection; ``optimal`` is False when SCIP stopped before proving it.
@@ -467,7 +502,8 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
     for _ in range(0 if shallow else CYCLE_RETRIES):
         try:
             return solve_selection_model(build_selection_model(candidates, relations, settings,
-                                                               exclude=exclude, hint=hint))
+                                                               exclude=exclude, hint=hint,
+                                                               farness=farness))
         except _Cycle as cycle:
             # the selection's stand-ins closed a cycle: cut that selection off, solve again
             log.info("stand-ins closed a cycle among %s; that selection is cut off",
@@ -479,7 +515,8 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
         log.info("stand-ins closed a cycle %d times; solving with shallow stand-ins",
                  CYCLE_RETRIES)
     return solve_selection_model(build_selection_model(candidates, relations, settings,
-                                                       shallow=True, hint=hint))
+                                                       shallow=True, hint=hint,
+                                                       farness=farness))
 
 
 #: Selections whose stand-ins closed a cycle cut off before falling back to shallow stand-ins.

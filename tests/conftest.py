@@ -39,7 +39,7 @@ def examples():
     out = {}
     for name in EXAMPLES:
         t = load_tutorial(CONFIGS / f"{name}.yaml")
-        plan = build_plan(t.model, t.solver)
+        plan = build_plan(t.model, t.solver, t.views)
         views = {}
         for view in t.views:
             levels = tuple(dict.fromkeys(tuple(t.levels) + GUIDED + ("basic",)))

@@ -993,7 +993,7 @@ def test_the_desks_horizon_arrow_no_longer_runs_through_a_label(shared_models):
 
     t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
                       / "desk_fredrik.yaml")
-    plan = build_plan(t.model, t.solver)
+    plan = build_plan(t.model, t.solver, t.views)
     for view in t.views:
         vp, = seq.sequence_views(plan, view, ("novice",), t.paper, t.sequence)
         _arrows_clear_of_texts("desk", view.name,

@@ -200,7 +200,7 @@ def test_not_optimal_plan_names_its_real_status(tmp_path, monkeypatch, status):
 
     tutorial = load_tutorial(tutorial_copy(tmp_path, name="c", solver={"time_limit_s": 7}))
     monkeypatch.setattr("h2s_print.pipeline.build_plan",
-                        lambda model, solver: _fake_plan(status, gap=0.25))
+                        lambda model, solver, views: _fake_plan(status, gap=0.25))
     events = []
     plan, cached = get_plan(tutorial, cache_dir=tmp_path / "cache", progress=events.append)
     assert not cached and plan.selection.status == status
@@ -208,7 +208,7 @@ def test_not_optimal_plan_names_its_real_status(tmp_path, monkeypatch, status):
     assert f"SCIP {status} - NOT proven optimal (gap 0.25" in text
     # only the time limit is blamed on solver.time_limit_s (7 s here)
     assert ("solver.time_limit_s 7" in text) == (status == "time_limit")
-    key = cache.plan_key(tutorial.model, tutorial.solver)
+    key = cache.plan_key(tutorial.model, tutorial.solver, tutorial.views)
     assert cache.entry_path(tmp_path / "cache", key).exists() == (status == "time_limit")
 
 

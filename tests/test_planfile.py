@@ -22,7 +22,7 @@ KEY = "a" * 64
 @pytest.fixture(scope="module")
 def camera_plan():  # the mixer: its relations' details carry contact and flush keys
     t = load_tutorial(CONFIGS / "mixer.yaml")
-    return build_plan(t.model, t.solver)
+    return build_plan(t.model, t.solver, t.views)
 
 
 def _same(a, b) -> None:

@@ -485,7 +485,7 @@ def test_cache_reuses_plans_and_resolves_only_the_changed_tutorial(small_book, t
 
     # a corrupt entry is ignored, solved again and rewritten
     camera = load_config(tmp_path / "camera.yaml")
-    key = plan_cache.plan_key(camera.model, camera.solver)
+    key = plan_cache.plan_key(camera.model, camera.solver, camera.views)
     entry = plan_cache.entry_path(out / plan_cache.CACHE_DIR, key)
     blob = bytearray(entry.read_bytes())
     blob[len(blob) // 2] ^= 0xFF
@@ -507,6 +507,15 @@ def test_cache_key_follows_model_bytes_and_settings(tmp_path):
 
     assert plan_cache.plan_key(cfg.model, replace(cfg.solver, depth=1)) != key
     assert plan_cache.plan_key(replace(cfg.model, units="cm"), cfg.solver) != key
+    # the views' eyes break the selection's ties (plan.part_farness); their names do not
+    views = tuple(cfg.views)
+    with_views = plan_cache.plan_key(cfg.model, cfg.solver, views)
+    assert with_views != key
+    assert plan_cache.plan_key(cfg.model, cfg.solver,
+                               tuple(replace(v, name=v.name + "x") for v in views)) == with_views
+    assert plan_cache.plan_key(cfg.model, cfg.solver,
+                               (replace(views[0], azimuth_deg=views[0].azimuth_deg + 90),)
+                               + views[1:]) != with_views
     copy = tmp_path / "copy.glb"
     copy.write_bytes(cfg.model.path.read_bytes())
     moved = replace(cfg.model, path=copy)

@@ -496,3 +496,49 @@ def test_the_table_hangs_every_leg_off_the_top(shared_models):
     hung = [c for c in legs if any(a.axis == 2 and a.end == "hi" and by_id[a.parent].part == top
                                    and a.ratio == 0.0 for a in c.anchors)]
     assert hung
+
+
+def _mirror_pair():
+    """Two identical parts, each drawable by eye (original, cost 6) or off the other (cost
+    3): two selections cost 9, mirror images of each other."""
+    box = ((0.0, 0.0, 0.0), (1.0, 1.0, 1.0))
+    cands = []
+    for me, other in (("near", "far"), ("far", "near")):
+        cands.append(Candidate(me, me, box, True, (), 0, (), (0, 1, 2), 6.0, 0.0))
+        cands.append(Candidate(f"{me}<{other}#1", me, box, False, (other,), 1, (), (1, 2),
+                               3.0, 0.0))
+    return cands
+
+
+@pytest.mark.parametrize("settings", [LIN, QUAD], ids=["linear", "quadratic"])
+def test_ties_go_nearest_first(settings):
+    # equal costs: the part nearer the tutorial's eyes is drawn by eye and the other hangs
+    # off it, whichever part the names or the solver's order would put first
+    cands = _mirror_pair()
+    for near, far in (("near", "far"), ("far", "near")):
+        sel = select_candidates(cands, [], settings, farness={near: 0.0, far: 1.0})
+        assert set(sel.chosen) == {near, f"{far}<{near}#1"}
+        assert sel.objective == 9.0  # the reported objective is the cost alone
+    # a real cost difference is never outweighed by the tie-break
+    dearer = [dataclasses.replace(c, cost_adjust=6.0 + 1e-4) if c.id == "far" else c
+              for c in cands]
+    sel = select_candidates(dearer, [], settings, farness={"near": 1.0, "far": 0.0})
+    assert set(sel.chosen) == {"near", "far<near#1"}
+
+
+def test_part_farness_is_the_distance_from_the_views_eyes():
+    from h2s_print.config import ViewSpec
+    from h2s_print.plan import part_farness
+
+    def box(y):
+        return Primitive(f"y{y:+d}", "cuboid", None, ((0.0, y - 0.5, 0.0), (1.0, y + 0.5, 1.0)),
+                         0.0)
+
+    prims = [box(-2), box(0), box(2)]
+    front = ViewSpec("front", azimuth_deg=0.0, elevation_deg=0.0)  # the eye on -y
+    back = ViewSpec("back", azimuth_deg=180.0, elevation_deg=0.0)
+    assert part_farness(prims, [front]) == pytest.approx({"y-2": 0.0, "y+0": 0.5, "y+2": 1.0})
+    assert part_farness(prims, [back]) == pytest.approx({"y-2": 1.0, "y+0": 0.5, "y+2": 0.0})
+    assert part_farness(prims, [front, back]) == pytest.approx(
+        {"y-2": 0.5, "y+0": 0.5, "y+2": 0.5})
+    assert part_farness(prims, []) == {}

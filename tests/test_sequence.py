@@ -1470,7 +1470,7 @@ def test_a_flat_rectangle_is_never_asked_for_its_thickness(shared_models):
     from h2s_print.templates import lookup
 
     t = load_tutorial(Path(__file__).parents[1] / "benchmarks" / "configs" / "desk_fredrik.yaml")
-    plan = build_plan(t.model, t.solver)
+    plan = build_plan(t.model, t.solver, t.views)
     planes = {p.part: p.axis for p in plan.primitives if p.type == "plane"}
     assert planes
     dims = lookup("steps", "dims")
@@ -2011,7 +2011,7 @@ def test_an_ellipse_another_part_drew_is_said_not_drawn_again(shared_models):
 
     cfg = Path(__file__).resolve().parents[1] / "benchmarks" / "configs" / "bottle_3763.yaml"
     t = load_tutorial(cfg)
-    plan = build_plan(t.model, t.solver)
+    plan = build_plan(t.model, t.solver, t.views)
     shared = lookup("steps", "substep.ellipse_shared").split("{step}")[1]  # ": nothing to draw."
     found = 0
     for view in t.views:
