@@ -57,13 +57,16 @@ depth, measured 10 % per side on a real oven), so its faces would not meet the p
 it.  Hence:
 
 * a **cuboid**'s (and a plane's, and a custom part's) box is the part's bounding box;
-* a **cylinder**'s or **frustum**'s fitted box is grown until no side lies more than
-  :data:`ENCLOSE` (0.5 % of the diagonal) inside the part's bounding box: along the axis the caps
-  move out; across it each interval becomes the union of the fitted one and the bounding box's
-  (less ``ENCLOSE``), re-centred on that union (a cylinder's radius is half the larger of its two
-  cross extents, so its box stays square; a frustum's two end rectangles scale together, so the
-  taper is kept; the ends are the fitted side planes at the caps, which lie in the part's
-  extent).  The tolerance leaves a tessellated circle or a noisy surface their fitted size.
+* a **cylinder**'s or **frustum**'s fitted box is grown to enclose the part: along the axis
+  the caps move out to the part's extent exactly; across it each interval becomes the union of
+  the fitted one and the bounding box's less :data:`ENCLOSE` (0.5 % of the diagonal),
+  re-centred on that union (a cylinder's radius is half the larger of its two cross extents, so
+  its box stays square; a frustum's two end rectangles scale together, so the taper is kept;
+  the ends are the fitted side planes at the caps, which lie in the part's extent).  Across the
+  axis the tolerance leaves a tessellated circle or a noisy surface their fitted size.  Along
+  it there is none: a part standing on another keeps touching it once its box is set flush on
+  the other's face (the mixer's bowl, whose foot pulled the least-squares cap 1.7 mm up, sank
+  that deep into its base and its bottom rim was hidden in the finished drawing).
 
 Admissible: a fit is reported only if
 
@@ -560,9 +563,10 @@ def _samples(part: Part, n_samples: int) -> _Samples:
     return _Samples(bbox, diag, centre, (raw - centre) / diag, normals, half)
 
 
-def _enclose(lo: float, hi: float, part_lo: float, part_hi: float) -> tuple[float, float]:
-    """Grow ``[lo, hi]`` so that each end is at most :data:`ENCLOSE` inside the part's."""
-    return min(lo, part_lo + ENCLOSE), max(hi, part_hi - ENCLOSE)
+def _enclose(lo: float, hi: float, part_lo: float, part_hi: float,
+             slack: float = ENCLOSE) -> tuple[float, float]:
+    """Grow ``[lo, hi]`` so that each end is at most ``slack`` inside the part's."""
+    return min(lo, part_lo + slack), max(hi, part_hi - slack)
 
 
 def _excess(lo: np.ndarray, hi: np.ndarray, half: np.ndarray) -> float:
@@ -576,9 +580,13 @@ def _outside(s: _Samples, lo: np.ndarray, hi: np.ndarray) -> str | None:
     return None if excess <= INSIDE else f"box leaves the bounding box by {excess:.4f}"
 
 
-def _model_box(s: _Samples, lo: np.ndarray, hi: np.ndarray) -> Box:
-    """The normalised box ``[lo, hi]`` in model units."""
-    return as_box(lo * s.diag + s.centre, hi * s.diag + s.centre)
+def _model_box(s: _Samples, lo: np.ndarray, hi: np.ndarray, axis: int | None = None) -> Box:
+    """The normalised box ``[lo, hi]`` in model units; along ``axis`` (a round part's, whose
+    caps span the part) the bounding box's own interval, with no rounding through the frame."""
+    mlo, mhi = lo * s.diag + s.centre, hi * s.diag + s.centre
+    if axis is not None:
+        mlo[axis], mhi[axis] = s.bbox[0][axis], s.bbox[1][axis]
+    return as_box(mlo, mhi)
 
 
 def _plane_fits(s: _Samples) -> list[_Fit]:
@@ -607,13 +615,13 @@ def _cylinder_fit(s: _Samples, axis: int) -> _Fit:
     (ulo, uhi), (vlo, vhi) = (_enclose(c - r, c + r, -half[k], half[k])
                               for c, k in ((cu, iu), (cv, iv)))
     cu, cv, r = (ulo + uhi) / 2, (vlo + vhi) / 2, max(uhi - ulo, vhi - vlo) / 2
-    hlo, hhi = _enclose(hc - hh, hc + hh, -half[axis], half[axis])
+    hlo, hhi = _enclose(hc - hh, hc + hh, -half[axis], half[axis], 0.0)
     x = np.array([cu, cv, r, (hlo + hhi) / 2, (hhi - hlo) / 2])
     res = _rms(_sdf_cylinder(p[:, iu], p[:, iv], p[:, axis], x, grad=False)[0])
     lo, hi = np.zeros(3), np.zeros(3)
     lo[[iu, iv, axis]] = (cu - r, cv - r, hlo)
     hi[[iu, iv, axis]] = (cu + r, cv + r, hhi)
-    return _Fit("cylinder", axis, score, res, _model_box(s, lo, hi), {
+    return _Fit("cylinder", axis, score, res, _model_box(s, lo, hi, axis), {
         "radius": float(r * s.diag),
         "centre": [float(cu * s.diag + s.centre[iu]), float(cv * s.diag + s.centre[iv])],
     }, _outside(s, lo, hi))
@@ -631,7 +639,7 @@ def _frustum_fit(s: _Samples, axis: int) -> _Fit | None:
     cu, cv, hu0, hv0, hu1, hv1, flo, fhi = x
     # the caps move out to enclose the part; the end rectangles are the fitted side planes
     # there; then both ends grow in proportion (the taper is kept) to enclose it across
-    flo, fhi = _enclose(flo, fhi, s0, s1)
+    flo, fhi = _enclose(flo, fhi, s0, s1, 0.0)
     ends = [[h0 + (h1 - h0) * (cap - s0) / (s1 - s0) for cap in (flo, fhi)]
             for h0, h1 in ((hu0, hu1), (hv0, hv1))]
     grown = []
@@ -652,7 +660,7 @@ def _frustum_fit(s: _Samples, axis: int) -> _Fit | None:
     ratio = min(min(hu0, hu1) / max(mu, 1e-12), min(hv0, hv1) / max(mv, 1e-12))
     rejected = (_outside(s, lo, hi) or
                 (None if ratio <= 1.0 - TAPER else f"no real taper (ends ratio {ratio:.3f})"))
-    return _Fit("frustum", axis, score, res, _model_box(s, lo, hi), {
+    return _Fit("frustum", axis, score, res, _model_box(s, lo, hi, axis), {
         "lo_half": [float(hu0 * s.diag), float(hv0 * s.diag)],
         "hi_half": [float(hu1 * s.diag), float(hv1 * s.diag)],
         "centre": [float(cu * s.diag + s.centre[iu]), float(cv * s.diag + s.centre[iv])],
