@@ -986,3 +986,47 @@ def test_a_close_up_beside_the_picture_keeps_its_caption_out_of_the_picture(exam
             assert b[2] <= rect.x_mm + 1e-6 or b[0] >= rect.x_mm + rect.w_mm - 1e-6, (
                 name, view, step.index, tx.string)
     assert beside
+
+
+_CENTRE = re.compile(r"^Centre .* on ([A-Z]'?)([A-Z]'?)"
+                     r"( from step \d+|, (?:carried|extended) in step \d+| \(.*\))?\.$")
+
+
+def _centred_lines_said(steps) -> list[str]:
+    """Sub-steps "Centre X on KL." whose line KL the step neither draws nor says the origin
+    of (an earlier sub-step naming K and L or citing lines carried "for its middle", "on the
+    edge KL", "on KL from step 3", "on KL, carried in step 3")."""
+    bad = []
+    for s in steps:
+        for i, sub in enumerate(s.substeps):
+            m = _CENTRE.match(sub)
+            if not m or m.group(3):
+                continue
+            k, l_ = m.group(1), m.group(2)
+            named = [x for x in s.substeps[:i]
+                     if re.search(rf"\b({k}{l_}|{l_}{k})\b", x)
+                     or (re.search(rf"\b{k}\b", x) and re.search(rf"\b{l_}\b", x))
+                     or re.match(r"Use the lines (carried|extended) in step \d+ for its .*middle", x)]
+            if not named:
+                bad.append(f"step {s.index}: {sub}")
+    return bad
+
+
+def test_a_part_is_centred_on_a_line_the_step_says_the_origin_of(examples, shared_models):
+    # a read-through: "Centre part 2 on AB" where AB was the base's front edge, said
+    # nowhere, read as a line to construct; it now reads "on the edge AB"
+    from h2s_print.config import load_tutorial
+
+    for name, (t, _, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level == "novice":
+                assert not _centred_lines_said(vp.steps), (name, view)
+    from conftest import CONFIGS
+
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "box_ivar.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    for view in t.views:
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        assert not _centred_lines_said(vp.steps), view.name
+        assert any(re.match(r"Centre part \d on the edge [A-Z]{2}\.$", sub)
+                   for s in vp.steps for sub in s.substeps)

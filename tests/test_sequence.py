@@ -509,9 +509,12 @@ def test_lines_carried_in_a_guides_step_stay_until_the_part_is_drawn_on_them(exa
             assert all(g in shown for g in carried), (name, vp.name, s.index)
             # and the placing step says so, citing the step that carried them
             said = lookup("steps", "substep.reuse_carried").format(step=s.index).rstrip(".")
-            # "Use the lines carried in step 9." or "... in step 9 for its back."
-            assert any(x.split(". ", 1)[-1].startswith(said) for x in placing.substeps), (
-                name, vp.name, placing.substeps)
+            centred = lookup("steps", "substep.centred_carried").split("{line}")[-1].format(
+                step=s.index)
+            # "Use the lines carried in step 9." or "... in step 9 for its back.", or the
+            # part centred on the one line carried: "Centre it on EN, carried in step 9."
+            assert any(x.split(". ", 1)[-1].startswith(said) or x.endswith(centred)
+                       for x in placing.substeps), (name, vp.name, placing.substeps)
             checked += 1
     assert checked
 

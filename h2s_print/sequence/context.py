@@ -135,6 +135,10 @@ LEVEL_ROLES: dict[str, frozenset[str]] = {
 _ROLE_RANK = {"construction": 0, "vanishing": 1, "guide": 2}
 
 
+#: Citations of the lines an earlier step carried or extended (no line named).
+_MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
+
+
 @dataclass(eq=False)
 class _Context(_Repeats, _Ellipses):
     """Everything a view needs, computed once and shared by its levels (never escapes)."""
@@ -509,6 +513,7 @@ class _Context(_Repeats, _Ellipses):
         from step 2" or "Use the edge KL" before "Carry KL to the grip" only repeated KL,
         which the picture shows as used again (issue 11: one sub-step per construction).  A
         citation keeps the lines no later sub-step names."""
+        specs = self.centred_cited(specs)
         out: list[Spec] = []
         for i, s in enumerate(specs):
             if s.key in _CITES:
@@ -530,6 +535,51 @@ class _Context(_Repeats, _Ellipses):
                     s = spec(key, s.same, s.pair, **f)
             out.append(s)
         return out
+
+    def centred_cited(self, specs: Sequence[Spec]) -> list[Spec]:
+        """``specs`` with "Centre the part on KL" saying what KL is when an earlier sub-step
+        only cites it (:meth:`uncited` then drops that citation): "on the edge KL" or "on KL
+        from step 3" (a read-through: "Centre part 2 on AB" with AB the base's front edge,
+        said nowhere, read as a line to construct)."""
+        out = list(specs)
+        drop: set[int] = set()  # steps whose carried lines a centring sentence now cites
+        for j, s in enumerate(out):
+            if s.key != "centred":
+                continue
+            f = dict(s.fields)
+            if not isinstance(f["line"], Pts) or len(f["line"].points) != 2:
+                continue  # twins said together ("on AB and CD"): left as they are
+            a, b = f["line"].points
+            for c in out[:j]:
+                if c.key not in _CITES:
+                    continue
+                cf = dict(c.fields)
+                if any(_same_segment(a, b, r.points[0], r.points[1], self.tol)
+                       for r in line_runs(cf["line"]) if len(r.points) == 2):
+                    out[j] = (spec("centred_edge", s.same, s.pair, **f)
+                              if c.key in ("edge", "edge_two")
+                              else spec("centred_reuse", s.same, s.pair, step=cf["step"], **f))
+                    break
+            else:
+                # a line carried in one earlier step, which the step cites only as "the
+                # lines carried in step 9" (the roller's frame shaft: "Centre the frame shaft
+                # on EN"); cited "for its middle (left to right)", the line is said already
+                named = any(_same_segment(a, b, r.points[0], r.points[1], self.tol)
+                            for x in out[:j] for _, v in x.fields if isinstance(v, (Pts, Many))
+                            for r in line_runs(v) if len(r.points) == 2)
+                moved = {(x.key.startswith("reuse_carried"), dict(x.fields)["step"])
+                         for x in out[:j] if x.key in _MOVED_CITES}
+                named = named or any(x.key.endswith("_for") for x in out[:j]
+                                     if x.key in _MOVED_CITES)
+                if not named and len(moved) == 1:  # (its far end is lettered only now)
+                    carried, n = moved.pop()
+                    out[j] = spec("centred_carried" if carried else "centred_extended",
+                                  s.same, s.pair, step=n, **f)
+                    drop.add(n)
+        # "Use the lines carried in step 9." says no more than "Centre it on EN, carried in
+        # step 9." (one with the sides they place stays)
+        return [x for x in out if not (x.key in ("reuse_carried", "reuse_extended")
+                                       and dict(x.fields)["step"] in drop)]
 
     def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
         """The drafts with their sub-steps formatted and their points lettered, the whole
