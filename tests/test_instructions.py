@@ -1030,3 +1030,26 @@ def test_a_part_is_centred_on_a_line_the_step_says_the_origin_of(examples, share
         assert not _centred_lines_said(vp.steps), view.name
         assert any(re.match(r"Centre part \d on the edge [A-Z]{2}\.$", sub)
                    for s in vp.steps for sub in s.substeps)
+
+
+def test_a_guides_step_draws_something_and_cites_no_edge(examples):
+    # a read-through: "Guides for the grip (2/2), on the body. 1. Use the edge AD." had
+    # nothing to do, and the grip's step then said "Use AD from step 7"; an edge of a drawn
+    # part is cited where the part is placed ("Use the edges AD and AB.")
+    from h2s_print.templates import lookup
+
+    edge = [lookup("steps", f"substep.{k}").split("{")[0] for k in ("edge", "edge_two")]
+    drawing = 0
+    for name, (t, _, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level not in ("novice", "apprentice"):
+                continue
+            for s in vp.steps:
+                if s.kind != "guides":
+                    continue
+                assert not any(x.startswith(tuple(edge)) for x in s.substeps), (
+                    name, view, level, s.index, s.substeps)
+                assert any(not x.startswith("Use ") for x in s.substeps), (
+                    name, view, level, s.index, s.substeps)
+                drawing += 1
+    assert drawing > 20

@@ -557,7 +557,7 @@ class _Context(_Repeats, _Ellipses):
                 if any(_same_segment(a, b, r.points[0], r.points[1], self.tol)
                        for r in line_runs(cf["line"]) if len(r.points) == 2):
                     out[j] = (spec("centred_edge", s.same, s.pair, **f)
-                              if c.key in ("edge", "edge_two")
+                              if c.key in ("edge", "edge_two", "edge_for")
                               else spec("centred_reuse", s.same, s.pair, step=cf["step"], **f))
                     break
             else:
@@ -840,8 +840,10 @@ class _Context(_Repeats, _Ellipses):
         said: set = set()  # lines an earlier guides step of this part drew: not drawn again
         for k, group in enumerate(groups[:-1]):
             here = step + k
+            # an edge of a drawn part is cited where it is used (the placing step), never in
+            # a guides step, which would have nothing to do with it ("Use the edge HJ.")
             subs = self.lettered([x for u in group for x in u.specs
-                                  if not (x.same and x.same in said)])
+                                  if not (x.same and x.same in said) and x.key != "edge"])
             said.update(x.same for x in subs if x.same)
             self.record(group, here, described)
             gsummary = _t("substep.guides_for", words=_join(_unique(
@@ -985,6 +987,14 @@ class _Context(_Repeats, _Ellipses):
             tail.remove(u)
             rest.append(u)
             groups = grouped(rest)
+        # a group that only cites lines (edges of drawn parts, lines of earlier steps) draws
+        # nothing: it is never a guides step of its own (a read-through: "Guides for the grip
+        # (2/2), on the body. 1. Use the edge AD.", then "Use AD from step 7"); it stays
+        # with the placing step
+        idle = [g for g in groups if all(x.key in _CITES for u in g for x in u.specs)]
+        if idle:
+            groups = [g for g in groups if g not in idle]
+            tail = [u for g in idle for u in g] + tail
         return groups + [tail]
 
     def uses_box(self, part: str, around: Sequence[_Line], con: Any) -> bool:

@@ -19,7 +19,7 @@ MAX_STEP_WORDS = 70
 
 
 #: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
-_CITES = ("reuse", "reuse_for", "edge", "edge_two")
+_CITES = ("reuse", "reuse_for", "edge", "edge_two", "edge_for")
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,10 +89,17 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     carried: dict[int, bool] = {}  # step -> carried (True) or only extended (False)
     moved_sides: dict[int, list[str]] = {}  # step -> the sides its carried lines place
     moved = _carried(groups)
+    edges: list[Spec] = []  # edges of drawn parts: no step drew them ("Use the edge AD")
     for k, g in enumerate(groups):
         for u in g:
             for i, r in enumerate(u.results):
-                if tuple(r) not in moved:
+                edge = next((x for x in u.specs if x.key == "edge"
+                             and dict(x.fields)["line"].points == tuple(r)), None)
+                if edge is not None and tuple(r) not in moved:
+                    said = list(dict.fromkeys(side_of(a) for a in u.anchors)) if side_of else []
+                    edges.append(spec("edge_for", line=dict(edge.fields)["line"],
+                                      sides=_join(said)) if said else edge)
+                elif tuple(r) not in moved:
                     n = u.origin.get(i, step + k)
                     cited.setdefault(n, []).append(Pts(r))
                     if side_of is not None:
@@ -102,7 +109,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                     x.key in _CARRIES and x.key != "extend_to" for x in u.specs)
                 if side_of is not None:
                     moved_sides.setdefault(step + k, []).extend(side_of(a) for a in u.carried_for)
-    out = []
+    out = list(edges)
     for n, lines in sorted(cited.items()):
         said = list(dict.fromkeys(sides.get(n, ())))
         out.append(spec("reuse_for", line=Many(tuple(lines)), step=n, sides=_join(said))
