@@ -1053,3 +1053,25 @@ def test_a_guides_step_draws_something_and_cites_no_edge(examples):
                     name, view, level, s.index, s.substeps)
                 drawing += 1
     assert drawing > 20
+
+
+@pytest.mark.parametrize("level", ["novice", "apprentice", "master"])
+def test_ellipses_promised_to_come_later_come(examples, level):
+    # a read-through of the master workbooks: the roller's parts were "Ellipses come later"
+    # and no later step said a word of them ("Handle: its outlines.")
+    from h2s_print.templates import lookup
+
+    note = lookup("steps", "headline.cylinder_note").strip()
+    promised = 0
+    for name, (t, _, views) in examples.items():
+        for (view, lv), vp in views.items():
+            if lv != level:
+                continue
+            for i, s in enumerate(vp.steps):
+                if note not in s.headline:
+                    continue
+                part = s.headline.split(":")[0].lower()
+                promised += 1
+                assert any("ellipse" in x.text and part in x.text.lower()
+                           for x in vp.steps[i + 1:]), (name, view, s.headline)
+    assert promised > 10

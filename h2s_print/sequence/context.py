@@ -135,6 +135,16 @@ LEVEL_ROLES: dict[str, frozenset[str]] = {
 _ROLE_RANK = {"construction": 0, "vanishing": 1, "guide": 2}
 
 
+def _by_eye_ellipses(d: _Draft) -> str:
+    """An outline step's sentence sketching ellipses by eye, or "": a master reads only the
+    headline and this (a read-through: the master's roller parts were "Ellipses come later"
+    and no step said more than "Handle: its outlines.")."""
+    if d.kind != "contour" or len(d.specs) != len(d.substeps):
+        return ""
+    return next((x for s, x in zip(d.specs, d.substeps) if s.key.startswith("ellipse_by_eye")),
+                "")
+
+
 #: Citations of the lines an earlier step carried or extended (no line named).
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
@@ -1262,7 +1272,7 @@ class _Context(_Repeats, _Ellipses):
             if level == "master":
                 subs: tuple[str, ...] = ()
                 labels: tuple[Label, ...] = named
-                summary = d.summary
+                summary = d.summary or _by_eye_ellipses(d)
                 text = " ".join(x for x in (d.headline, summary) if x)
             else:
                 subs, summary = d.substeps, ""
