@@ -465,6 +465,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     names = vp_names(plan)
     ground = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in ("ground", "ground_edge")])
+    footprint = _hull(ground.reshape(-1, 2).tolist()) if len(ground) else None
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
         name = names[vp.axis]
         finite = not vp.at_infinity and vp.xy_mm is not None
@@ -498,17 +499,25 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         exit_ = edge_exit(plan.camera, vp, inset_mm=m + 2.0, origin_mm=origin)
         if exit_ is None:
             continue
+        # parallels (a point at infinity) run both ways: the arrow may point either way
+        # (the desk's upward arrow crossed its printed top, all across the sheet's top)
+        ways = [vp] + ([replace(vp, direction_mm=(-vp.direction_mm[0], -vp.direction_mm[1]))]
+                       if vp.at_infinity else [])
         if len(ground) and _shaft_near(exit_, ground, ARROW_CLEAR_MM):
             n = math.hypot(*exit_.direction_mm)
             across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
-            for k in (1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6):
-                moved = (origin[0] + 8.0 * k * across[0], origin[1] + 8.0 * k * across[1])
-                if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
+            for way in ways:
+                for k in (0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6):
+                    moved = (origin[0] + 8.0 * k * across[0], origin[1] + 8.0 * k * across[1])
+                    if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
+                        continue
+                    other = edge_exit(plan.camera, way, inset_mm=m + 2.0, origin_mm=moved)
+                    if other is not None and not _shaft_near(other, ground, ARROW_CLEAR_MM):
+                        exit_ = other
+                        break
+                else:
                     continue
-                other = edge_exit(plan.camera, vp, inset_mm=m + 2.0, origin_mm=moved)
-                if other is not None and not _shaft_near(other, ground, ARROW_CLEAR_MM):
-                    exit_ = other
-                    break
+                break
         tip, edge, direction = exit_.point_mm, exit_.side, exit_.direction_mm
         label = (_t("sheet.vp_far", vp=name, distance=f"{exit_.distance_mm:.0f}") if finite
                  else _t("sheet.vp_infinite", vp=name))
@@ -540,10 +549,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
         vertical = edge in ("left", "right")
         placed = _clear_of_texts(block, items, frame, vertical, area, hull)
-        if placed is None:  # no room off the drawing: at least off its lines
-            placed = _clear_of_texts(block, items, frame, vertical, shadow)
+        if placed is None:  # no room off the drawing: at least off its lines, and never in
+            # the printed first box's footprint, where the first box is drawn (the desk's)
+            placed = _clear_of_texts(block, items, frame, vertical, shadow, footprint)
         if placed is None:  # nor that: at least clear of the other labels
-            placed = _clear_of_texts(block, items, frame, vertical)
+            placed = _clear_of_texts(block, items, frame, vertical, None, footprint)
         items += placed or block
     for options in deferred:
         # the first position off the drawing; else the first one moved off it; else the same

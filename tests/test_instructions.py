@@ -1075,3 +1075,52 @@ def test_ellipses_promised_to_come_later_come(examples, level):
                 assert any("ellipse" in x.text and part in x.text.lower()
                            for x in vp.steps[i + 1:]), (name, view, s.headline)
     assert promised > 10
+
+
+def _sheet_clashes_with_footprint(page) -> list[str]:
+    """Texts whose middle lies inside the printed first box (footprint and upright), and
+    vanishing-point arrows crossing it."""
+    ground = L._segments([it for it in page.items if isinstance(it, L.Polyline)
+                          and it.role in ("ground", "ground_edge")])
+    hull = S._hull(ground.reshape(-1, 2).tolist())
+    bad = [f"text {it.string!r}" for it in page.items
+           if isinstance(it, L.Text) and it.string and it.role != "ground_label"
+           and S._in_convex(hull, ((it.box_mm[0] + it.box_mm[2]) / 2,
+                                   (it.box_mm[1] + it.box_mm[3]) / 2))]
+    for it in page.items:
+        if isinstance(it, L.Polyline) and it.role == "vp_arrow":
+            for (ax, ay), (bx, by) in zip(it.points_mm, it.points_mm[1:]):
+                box = (min(ax, bx) - 1e-9, min(ay, by) - 1e-9, max(ax, bx) + 1e-9,
+                       max(ay, by) + 1e-9)
+                if any(_segments_cross((ax, ay), (bx, by), g[:2], g[2:]) for g in ground
+                       if min(g[0], g[2]) <= box[2] and max(g[0], g[2]) >= box[0]):
+                    bad.append("arrow")
+    return bad
+
+
+def _segments_cross(p, q, r, s) -> bool:
+    def side(a, b, c):
+        return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    return (side(p, q, r) * side(p, q, s) < 0) and (side(r, s, p) * side(r, s, q) < 0)
+
+
+def test_sheet_labels_and_arrows_keep_off_the_printed_first_box(examples, shared_models):
+    # a read-through: the desk's "vertical edges: keep them parallel" was printed inside the
+    # footprint the first box is drawn on, and the upward arrow crossed the footprint's edge
+    from h2s_print.config import load_tutorial
+    from conftest import CONFIGS
+
+    def sheet(t, vp, view):  # as the workbook lays it out, off the finished drawing
+        page, = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                 if p.kind == "sheet"]
+        return page
+
+    for name, (t, _, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level == "novice":
+                assert not _sheet_clashes_with_footprint(sheet(t, vp, view)), (name, view)
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "desk_fredrik.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    for view in t.views:
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        assert not _sheet_clashes_with_footprint(sheet(t, vp, view.name)), view.name
