@@ -548,9 +548,10 @@ class _Context(_Repeats, _Ellipses):
 
     def centred_cited(self, specs: Sequence[Spec]) -> list[Spec]:
         """``specs`` with "Centre the part on KL" saying what KL is when an earlier sub-step
-        only cites it (:meth:`uncited` then drops that citation): "on the edge KL" or "on KL
-        from step 3" (a read-through: "Centre part 2 on AB" with AB the base's front edge,
-        said nowhere, read as a line to construct)."""
+        only cites it (:meth:`uncited` then drops that citation): "on the edge KL", "on KL
+        from step 3", or "on KL, carried in step 3" for a line only cited among "the lines
+        carried in step 3" (a read-through: "Centre part 2 on AB" with AB the base's front
+        edge, said nowhere, read as a line to construct)."""
         out = list(specs)
         drop: set[int] = set()  # steps whose carried lines a centring sentence now cites
         for j, s in enumerate(out):

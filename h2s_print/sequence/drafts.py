@@ -93,13 +93,15 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     for k, g in enumerate(groups):
         for u in g:
             for i, r in enumerate(u.results):
+                if tuple(r) in moved:
+                    continue
                 edge = next((x for x in u.specs if x.key == "edge"
                              and dict(x.fields)["line"].points == tuple(r)), None)
-                if edge is not None and tuple(r) not in moved:
+                if edge is not None:
                     said = list(dict.fromkeys(side_of(a) for a in u.anchors)) if side_of else []
                     edges.append(spec("edge_for", line=dict(edge.fields)["line"],
                                       sides=_join(said)) if said else edge)
-                elif tuple(r) not in moved:
+                else:
                     n = u.origin.get(i, step + k)
                     cited.setdefault(n, []).append(Pts(r))
                     if side_of is not None:
