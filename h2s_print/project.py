@@ -338,20 +338,36 @@ class FirstBoxLines:
     its bottom face, the ground the drawing stands on, and its upright edge nearest the eye,
     which gives its height (every later size is measured against this box).
 
+    When the first box stands above the floor (a table's top, a train's engine on its
+    wheels), the sheet also prints the floor under that nearest corner (``floor``): the
+    object's whole height, which nothing else on the sheet gives (a read-through: the table's
+    legs and the desk's uprights were all "height by eye").
+
     Attributes:
         footprint: the bottom face's corners in order around it (3D, model units).
         height: ``(bottom, top)`` of the nearest upright edge, or ``None`` for a flat box.
+        floor: ``(corner, its foot on the floor)``: the nearest bottom corner and the point
+            straight below it at the floor, or ``None`` when the box stands on the floor.
     """
 
     footprint: tuple[Point3, Point3, Point3, Point3]
     height: tuple[Point3, Point3] | None
+    floor: tuple[Point3, Point3] | None = None
 
 
-def first_box_lines(camera: Camera, points3d: Any) -> FirstBoxLines | None:
+#: The first box "stands above the floor" (:class:`FirstBoxLines`) when its bottom is more
+#: than this share of its own largest extent above the floor.
+FLOOR_DROP = 0.05
+
+
+def first_box_lines(camera: Camera, points3d: Any,
+                    floor_z: float | None = None) -> FirstBoxLines | None:
     """The sheet's lines of the box around ``points3d`` (the first scaffold step's stroke
     points; :class:`FirstBoxLines`), or ``None`` when there are none or the footprint is not
     wholly in front of the camera.  The nearest edge is the corner column closest to the
-    eye in plan (ties: the smaller corner)."""
+    eye in plan (ties: the smaller corner); the floor line drops from its bottom to
+    ``floor_z`` when that is more than :data:`FLOOR_DROP` of the box's largest extent
+    below."""
     pts = np.asarray(points3d, dtype=float).reshape(-1, 3)
     if len(pts) == 0:
         return None
@@ -361,12 +377,17 @@ def first_box_lines(camera: Camera, points3d: Any) -> FirstBoxLines | None:
     foot = ((xs[0], ys[0], z), (xs[1], ys[0], z), (xs[1], ys[1], z), (xs[0], ys[1], z))
     if np.any(camera.depth(foot) <= 0):
         return None
+    eye = np.asarray(camera.position, dtype=float)
+    x, y = min(((x, y) for x in xs for y in ys),
+               key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
     height = None
     if hi[2] > lo[2]:
-        eye = np.asarray(camera.position, dtype=float)
-        x, y = min(((x, y) for x in xs for y in ys),
-                   key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
         ends = ((x, y, z), (x, y, float(hi[2])))
         if not np.any(camera.depth(ends) <= 0):
             height = ends
-    return FirstBoxLines(foot, height)
+    floor = None
+    if floor_z is not None and z - floor_z > FLOOR_DROP * float(np.max(hi - lo)):
+        drop = ((x, y, z), (x, y, float(floor_z)))
+        if not np.any(camera.depth(drop) <= 0):
+            floor = drop
+    return FirstBoxLines(foot, height, floor)

@@ -56,7 +56,7 @@ def _first_lines(plan: ViewPlan) -> tuple[str, FirstBoxLines] | None:
         pts = [p for s in step.strokes for p in s.points3d]
         if not pts:
             continue
-        lines = first_box_lines(plan.camera, pts)
+        lines = first_box_lines(plan.camera, pts, plan.floor_z)
         if lines is None:
             return None
         return step.part or step.strokes[0].part, lines
@@ -73,6 +73,17 @@ def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:
         return None
     proj = plan.camera.project(found[1].footprint)
     return found[0], tuple((float(x), float(y)) for x, y in proj)
+
+
+def first_floor_line(plan: ViewPlan) -> tuple[Pt, Pt] | None:
+    """The floor under the first box's nearest bottom corner, projected on the sheet
+    ``(corner, foot)`` mm, when the first box stands above the floor
+    (:class:`h2s_print.project.FirstBoxLines`)."""
+    found = _first_lines(plan)
+    if found is None or found[1].floor is None:
+        return None
+    (ax, ay), (bx, by) = plan.camera.project(found[1].floor)
+    return (float(ax), float(ay)), (float(bx), float(by))
 
 
 def first_near_edge(plan: ViewPlan) -> tuple[Pt, Pt] | None:
@@ -447,6 +458,18 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             for piece in clip_polyline(edge, frame):
                 items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
                                       "ground_edge"))
+        drop = first_floor_line(plan) if ground_mm is None else None
+        if drop is not None:  # the floor below it: the object's whole height
+            for piece in clip_polyline(drop, frame):
+                items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
+                                      "ground_edge"))
+            fx, fy = drop[1]
+            floor = _t("sheet.floor")
+            deferred.append([([Text(x, y, floor, 7, "Helvetica", anchor, "blue",
+                                    "floor_label")], [])
+                             for x, y, anchor in ((fx, fy - 3.5, "middle"),
+                                                  (fx + 2.0, fy - 1.0, "start"),
+                                                  (fx - 2.0, fy - 1.0, "end"))])
         called = dict((full, label) for label, full in plan.part_names)  # renamed parts
         name = called.get(part or "", (part or "?").replace("_", " "))
         label = _t("sheet.ground", the_part=plain_text(templates.the(name)))
@@ -465,7 +488,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     names = vp_names(plan)
     ground = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in ("ground", "ground_edge")])
-    footprint = _hull(ground.reshape(-1, 2).tolist()) if len(ground) else None
+    foot = _segments([it for it in items if isinstance(it, Polyline) and it.role == "ground"])
+    footprint = _hull(foot.reshape(-1, 2).tolist()) if len(foot) else None
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
         name = names[vp.axis]
         finite = not vp.at_infinity and vp.xy_mm is not None

@@ -339,3 +339,4 @@ class ViewPlan:
     vanishing_points: tuple[VanishingPoint, ...]
     steps: tuple[Step, ...]
     part_names: tuple[tuple[str, str], ...] = ()  # (label, full name) of renamed parts
+    floor_z: float | None = None  # the floor: lowest z of the drawn boxes, model units

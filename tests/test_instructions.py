@@ -1078,11 +1078,13 @@ def test_ellipses_promised_to_come_later_come(examples, level):
 
 
 def _sheet_clashes_with_footprint(page) -> list[str]:
-    """Texts whose middle lies inside the printed first box (footprint and upright), and
-    vanishing-point arrows crossing it."""
+    """Texts whose middle lies inside the printed footprint, and vanishing-point arrows
+    crossing the printed first box's lines (footprint, upright, floor line)."""
     ground = L._segments([it for it in page.items if isinstance(it, L.Polyline)
                           and it.role in ("ground", "ground_edge")])
-    hull = S._hull(ground.reshape(-1, 2).tolist())
+    foot = L._segments([it for it in page.items if isinstance(it, L.Polyline)
+                        and it.role == "ground"])
+    hull = S._hull(foot.reshape(-1, 2).tolist())
     bad = [f"text {it.string!r}" for it in page.items
            if isinstance(it, L.Text) and it.string and it.role != "ground_label"
            and S._in_convex(hull, ((it.box_mm[0] + it.box_mm[2]) / 2,
@@ -1124,3 +1126,32 @@ def test_sheet_labels_and_arrows_keep_off_the_printed_first_box(examples, shared
     for view in t.views:
         vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
         assert not _sheet_clashes_with_footprint(sheet(t, vp, view.name)), view.name
+
+
+def test_parts_on_the_floor_under_a_raised_first_box_are_stood_on_it(shared_models):
+    # a read-through: the LACK table's top is drawn first, and its legs were "width, depth
+    # and height by eye": nothing gave the table's height.  The sheet now prints the floor
+    # under the top's nearest corner, and the legs stand on it: their height is given
+    from h2s_print.config import load_tutorial
+    from h2s_print.templates import lookup
+    from conftest import CONFIGS
+
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "table_lack.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    floor_z = min(c.box[0][2] for c in plan.chosen().values())
+    on_floor = lookup("steps", "substep.on_floor")
+    for view in t.views:
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        assert lookup("steps", "substep.first_floor") in vp.steps[0].substeps
+        standing = [s for s in vp.steps if on_floor in s.substeps]
+        assert standing and all(s.kind == "primitive" for s in standing)
+        for s in standing:
+            box = plan.chosen()[s.part].box
+            assert box[0][2] == pytest.approx(floor_z)  # it does stand on the floor
+            assert not any("height" in x and "by eye" in x for x in s.substeps), s.substeps
+            # the floor line is on the picture, ending on the floor
+            line, = [g for g in s.guides if g.id == seq_drafts.SHEET_FLOOR]
+            assert line.to3d[2] == floor_z
+        # and stays on the paper until then (no erase hint retires it earlier)
+        last = max(s.index for s in standing)
+        assert all(seq_drafts.SHEET_FLOOR in s.alive for s in vp.steps[:last])

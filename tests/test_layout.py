@@ -12,6 +12,8 @@ from h2s_print import layout as L
 from h2s_print import sheet as S
 from h2s_print.config import PaperSpec
 from h2s_print.errors import RenderError
+from h2s_print.sequence import drafts as seq_drafts
+from h2s_print.templates import lookup
 from h2s_print.types import Camera, Guide, Step, Stroke, VanishingPoint, ViewPlan
 
 # ----------------------------------------------------------------------------- factory
@@ -784,8 +786,20 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
                 assert not printed
                 continue
             first = next(i for i, st in enumerate(vp.steps) if st.kind == "primitive")
+            # the floor line below a first box above the floor is shown again where a step
+            # stands a part on the floor ("Its bottom stands on the floor ...")
+            floor = [(i, g) for i, g in printed if g.id == seq_drafts.SHEET_FLOOR]
+            on_floor = lookup("steps", "substep.on_floor")
+            assert {i for i, g in floor if i != first} == {
+                i for i, st in enumerate(vp.steps) if on_floor in st.substeps}
+            if floor:
+                (_, g), = [(i, g) for i, g in floor if i == first]
+                z0 = min(c.box[0][2] for c in plan.chosen().values())
+                assert g.to3d[2] == z0 and g.from3d[:2] == g.to3d[:2]
+                assert all(x.status == "reused" for i, x in floor if i != first)
+            printed = [(i, g) for i, g in printed if g.id != seq_drafts.SHEET_FLOOR or i == first]
             assert {i for i, _ in printed} == {first}, (name, view, level)
-            guides = [g for _, g in printed]
+            guides = [g for _, g in printed if g.id != seq_drafts.SHEET_FLOOR]
             assert all(g.status == "new" for g in guides)
             for g in guides:
                 mm = vp.camera.project(np.array([g.from3d, g.to3d], dtype=float))
@@ -806,11 +820,14 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
             quad = [it for it in sheet.items if isinstance(it, L.Polyline) and it.role == "ground"]
             edge = [it for it in sheet.items if isinstance(it, L.Polyline)
                     and it.role == "ground_edge"]
-            assert len(quad) == 1 and len(edge) == 1
+            assert len(quad) == 1 and len(edge) == 1 + bool(floor)
             ring = {(round(x, 6), round(y, 6)) for x, y in quad[0].points_mm}
             assert ring == {(round(x, 6), round(y, 6)) for x, y in (g.from_mm for g in foot)}
             assert np.allclose(sorted(edge[0].points_mm),
                                sorted([upright[0].from_mm, upright[0].to_mm]), atol=1e-9)
+            for (_, g), line in zip(floor[:1], edge[1:]):  # the floor line, printed as shown
+                assert np.allclose(sorted(line.points_mm), sorted([g.from_mm, g.to_mm]),
+                                   atol=1e-9)
             # drawn after (over) the box's strokes, in the sheet's dashed blue
             page_items = L._drawing(L._View((0, 0, *vp.paper_mm), (0, 0, *vp.paper_mm)), vp,
                                     first)

@@ -426,3 +426,21 @@ def test_vp_side_names_where_the_point_lies():
     assert vp_side(vp(100.0, -700.0), c) == "below"
     assert vp_side(vp(248.5, 5.0), c) == "right"  # |dx| = |dy| = 100: sideways wins
     assert vp_side(VanishingPoint(2, True, None, (0.0, 1.0)), c) is None
+
+
+def test_the_floor_line_drops_from_the_nearest_bottom_corner_of_a_box_above_the_floor():
+    # a table's top, 0.7 above the floor: the sheet prints the floor under the corner whose
+    # upright it prints, so the object's whole height is given, not only the top's
+    from h2s_print.project import FLOOR_DROP, first_box_lines
+
+    top = np.array([[x, y, z] for x in (-0.6, 0.6) for y in (-0.3, 0.3) for z in (0.7, 0.75)])
+    view = ViewSpec("v", azimuth_deg=-35.0, elevation_deg=20.0, distance=3.0)
+    cam = make_camera(view, np.vstack([top, [[0.0, 0.0, 0.0]]]), A4)
+    lines = first_box_lines(cam, top, 0.0)
+    corner, foot = lines.floor
+    assert corner == lines.height[0]  # the upright's bottom: the corner nearest the eye
+    assert foot == (corner[0], corner[1], 0.0)
+    assert first_box_lines(cam, top).floor is None  # no floor given
+    # standing on the floor (within FLOOR_DROP of its size): no floor line
+    assert first_box_lines(cam, top, 0.7 - 0.5 * FLOOR_DROP * 1.2).floor is None
+    assert first_box_lines(cam, top, 0.7 - 2.0 * FLOOR_DROP * 1.2).floor is not None

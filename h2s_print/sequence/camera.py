@@ -9,7 +9,8 @@ import numpy as np
 
 from ..config import PaperSpec, ViewSpec
 from ..contours import adjust_part
-from ..project import make_camera
+from ..order import start_part
+from ..project import FLOOR_DROP, make_camera
 from ..types import Camera, Part, Vec3
 from .geometry import _anchor_lines, _box_corners
 
@@ -46,7 +47,25 @@ def _guide_points(plan: Any, camera: Camera, tol: float) -> np.ndarray:
             _, _, own, carry = _anchor_lines(anchor, by_id[anchor.parent].box, cand.box, camera,
                                              tol)
             pts += [p for ln in own + carry for p in (ln.start, ln.end)]
+    pts += _floor_points(plan)
     return np.array(pts, dtype=float).reshape(-1, 3)
+
+
+def _floor_points(plan: Any) -> list[Vec3]:
+    """The floor under the first box's bottom corners, where it stands above the floor: the
+    floor line the sheet prints drops from one of them (``project.FirstBoxLines``), for the
+    selected boxes and for the fitted ones (the control tutorial's)."""
+    start = start_part(plan.primitives)
+    if start is None:
+        return []
+    chosen = plan.chosen()
+    out: list[Vec3] = []
+    for boxes, (lo, hi) in (([c.box for c in chosen.values()], chosen[start].box),
+                            ([p.box for p in plan.primitives], plan.primitive(start).box)):
+        floor = min(b[0][2] for b in boxes)
+        if lo[2] - floor > FLOOR_DROP * max(hi[a] - lo[a] for a in range(3)):
+            out += [(x, y, floor) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
+    return out
 
 
 def _fit_camera(plan: Any, view: ViewSpec, paper: PaperSpec, adjusted: dict[str, Part],

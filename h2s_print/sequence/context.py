@@ -28,7 +28,7 @@ from ..instructions import (
 from ..names import PartName, display_names, natural_key, stem
 from ..occlude import Solid
 from ..order import drawing_order, part_size, start_part
-from ..project import vanishing_points
+from ..project import FLOOR_DROP, vanishing_points
 from ..ratios import entry_for
 from ..types import (
     Box,
@@ -47,6 +47,7 @@ from .drafts import (
     _CITES,
     _DRAWS,
     MAX_STEP_WORDS,
+    SHEET_FLOOR,
     _carried,
     _carry_key,
     _citations,
@@ -213,6 +214,36 @@ class _Context(_Repeats, _Ellipses):
             log.info("start part %s is not drawn (hidden); starting from %s", first, fallback)
             first = fallback
         return first
+
+    def floor_z(self, basic: bool) -> float:
+        """The floor the object stands on: the lowest z of the selected boxes (``basic``: of
+        the fitted ones, the control tutorial's)."""
+        boxes = ([p.box for p in self.plan.primitives] if basic
+                 else [c.box for c in self.chosen.values()])
+        return float(min(b[0][2] for b in boxes))
+
+    def on_floor(self, part: str, drawn: Sequence[str]) -> bool:
+        """Does ``part`` stand on the floor that the sheet prints under the first box (one
+        above the floor: a table's top, :class:`h2s_print.project.FirstBoxLines`), its bottom
+        placed by no anchor?  Then its step says so, and its bottom is no longer judged by
+        eye (a read-through: the table's legs were "width, depth and height by eye")."""
+        if not drawn or part == drawn[0]:
+            return False
+        floor = self.floor_z(False)
+        first, box = self.chosen[drawn[0]].box, self.chosen[part].box
+        biggest = max(_extent(first, a) for a in range(3))
+        return (first[0][2] - floor > FLOOR_DROP * biggest
+                and abs(box[0][2] - floor) <= self.tol
+                and not any(a.axis == 2 and a.end == "lo" for a in self.chosen[part].anchors))
+
+    def floor_size(self, part: str, drawn: Sequence[str]) -> list[tuple[Spec, list[int]]]:
+        """"Its bottom stands on the floor" (:meth:`on_floor`) as the first of the part's
+        size sentences (said when the step has room for it, :meth:`sized`): with its top
+        anchored, it gives the height, which is then not left to the eye."""
+        if not self.on_floor(part, drawn):
+            return []
+        top = any(a.axis == 2 and a.end == "hi" for a in self.chosen[part].anchors)
+        return [(spec("on_floor"), [2] if top else [])]
 
     def basic_order(self, keep: set[str]) -> list[str]:
         """The control tutorial's order of the kept parts (fitted boxes, no anchoring): the
@@ -602,6 +633,15 @@ class _Context(_Repeats, _Ellipses):
             for ln in d.lines:
                 last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
         on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
+        # the sheet's floor line, kept while a step stands a part on the floor
+        start = next((k for k, d in enumerate(drafts) if d.kind == "primitive" and d.strokes),
+                     None)
+        until = max((k for k, d in enumerate(drafts) if any(x.key == "on_floor"
+                                                              for x in d.specs)), default=-1)
+        if start is not None and until > start:
+            lines = _first_lines(drafts[start].strokes, self.camera, self.floor_z(False))
+            if lines is not None and lines.floor is not None:
+                on_paper += [(p, until) for p in lines.floor]
         done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper)
         return [replace(d, substeps=tuple(subs), labels=tuple(labels))
                 for d, (subs, labels) in zip(drafts, done)]
@@ -624,7 +664,9 @@ class _Context(_Repeats, _Ellipses):
         name = self.say(part)
         note = _raw("headline.cylinder_note") if _round(prim) else ""
         if first:
-            subs = self.lettered([*_first_specs(_first_lines(strokes, self.camera)), *repeat])
+            subs = self.lettered([*_first_specs(_first_lines(strokes, self.camera,
+                                                             self.floor_z(False))),
+                                  *repeat])
             return [_Draft(part, "primitive", False, (), strokes,
                            _t("headline.first", Part=_cap(name), shape=shape) + note, subs)]
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
@@ -641,8 +683,8 @@ class _Context(_Repeats, _Ellipses):
                                 other=self.say(near[0])) if near else spec("free"))
                 return [placing, *where, *(x for x, _ in sizes), *repeat]
 
-            subs = self.lettered(self.sized(head, free, self.size_specs(
-                part, self.loose_axes(cand), refs)))
+            subs = self.lettered(self.sized(head, free, self.floor_size(part, drawn)
+                                            + self.size_specs(part, self.loose_axes(cand), refs)))
             return [_Draft(part, "primitive", False, (), strokes, head, subs)]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
         flat: list[Spec] = []
@@ -678,7 +720,7 @@ class _Context(_Repeats, _Ellipses):
         refs = _unique([self.by_id[a.parent].part for a in cand.anchors]
                        + [q for q in _touching(part, self.chosen, 100.0 * self.tol)
                           if q in drawn])
-        sizes = self.size_specs(part, loose, refs)
+        sizes = self.floor_size(part, drawn) + self.size_specs(part, loose, refs)
 
         def by_eye(chosen: list[tuple[Spec, list[int]]]) -> tuple[list[Spec], str]:
             """The size sentences chosen, and the sizes left to the eye."""
@@ -1176,7 +1218,8 @@ class _Context(_Repeats, _Ellipses):
                 head = _t("headline.first" if i == 0 else "headline.basic",
                           Part=_cap(self.say(p)), shape=shape)
                 lines = _scaffold(p, prim, prim.box, self.camera, self.tol)
-                subs = (tuple(_first_specs(_first_lines(lines, self.camera))) if i == 0
+                subs = (tuple(_first_specs(_first_lines(lines, self.camera, self.floor_z(True))))
+                        if i == 0
                         else (spec("basic_part"),))
                 drafts.append(_Draft(p, "basic", True, (), lines, head, subs))
             drafts += [d for p in order if _round(self.plan.primitive(p))
@@ -1246,8 +1289,12 @@ class _Context(_Repeats, _Ellipses):
         start = next((i for i, d in enumerate(drafts) if d.kind == "primitive" and d.strokes),
                      None)
         printed = (() if start is None or not LEVEL_ROLES[level]
-                   else _sheet_guides(_first_lines(drafts[start].strokes, self.camera),
+                   else _sheet_guides(_first_lines(drafts[start].strokes, self.camera,
+                                                   self.floor_z(level == "basic")),
                                       self.camera))
+        floor = [g for g in printed if g.id == SHEET_FLOOR]
+        floor_until = max((i for i, d in enumerate(drafts)
+                           if any(x.key == "on_floor" for x in d.specs)), default=-1)
         steps = []
         for i, (d, gs) in enumerate(zip(drafts, shown)):
             guides = tuple(
@@ -1258,6 +1305,12 @@ class _Context(_Repeats, _Ellipses):
             if i == start and printed:
                 guides = printed + guides
                 alive = tuple(g.id for g in printed) + alive
+            elif floor and start is not None and start < i <= floor_until:
+                # the floor line stays on the paper while a later step stands a part on it,
+                # and is shown where one does
+                if any(x.key == "on_floor" for x in d.specs):
+                    guides = (replace(floor[0], status="reused"),) + guides
+                alive = (floor[0].id,) + alive
             box = None
             if d.part is not None and d.kind in ("primitive", "basic", "contour", "ellipse"):
                 box = (self.plan.primitive(d.part).box if level == "basic"
@@ -1288,7 +1341,7 @@ class _Context(_Repeats, _Ellipses):
                                 if not self.names[p].readable),
                                key=lambda lp: (natural_key(lp[0]), lp[1])))
         return ViewPlan(name, level, (float(paper.width_mm), float(paper.height_mm)), self.camera,
-                        self.vps, tuple(steps), renamed)
+                        self.vps, tuple(steps), renamed, self.floor_z(level == "basic"))
 
 
 def _distinct(lines: Sequence[_Line], tol: float) -> list[_Line]:

@@ -39,22 +39,28 @@ class _Draft:
     group: tuple[str, ...] = ()  # identical parts drawn in this step (their first is ``part``)
 
 
-def _first_lines(strokes: Sequence[Stroke], camera: Camera) -> FirstBoxLines | None:
-    """What the sheet prints of the box of the first step's ``strokes``
-    (:func:`h2s_print.project.first_box_lines`; the sheet reads the same)."""
-    return first_box_lines(camera, [p for s in strokes for p in s.points3d])
+def _first_lines(strokes: Sequence[Stroke], camera: Camera,
+                 floor_z: float | None = None) -> FirstBoxLines | None:
+    """What the sheet prints of the box of the first step's ``strokes`` above the floor
+    ``floor_z`` (:func:`h2s_print.project.first_box_lines`; the sheet reads the same)."""
+    return first_box_lines(camera, [p for s in strokes for p in s.points3d], floor_z)
 
 
 def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
     """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
-    (printed on the sheet too) when it has a height, then its edges and the paper corners."""
+    (printed on the sheet too) when it has a height, the floor below it when it stands above
+    the floor, then its edges and the paper corners."""
     tall = lines is not None and lines.height is not None
+    floor = lines is not None and lines.floor is not None
     return [spec("first_footprint"), *([spec("first_height")] if tall else []),
-            spec("first_edges"), spec("first_corners")]
+            *([spec("first_floor")] if floor else []), spec("first_edges"),
+            spec("first_corners")]
 
 
-#: Guide ids of the sheet's printed lines on the first step (:func:`_sheet_guides`).
+#: Guide ids of the sheet's printed lines on the first step (:func:`_sheet_guides`), and of
+#: the floor line below the first box.
 SHEET_GUIDE = "sheet"
+SHEET_FLOOR = "sheet_floor"
 
 
 def _sheet_guides(lines: FirstBoxLines | None, camera: Camera) -> tuple[Guide, ...]:
@@ -69,10 +75,14 @@ def _sheet_guides(lines: FirstBoxLines | None, camera: Camera) -> tuple[Guide, .
     segs = [(foot[k], foot[(k + 1) % 4]) for k in range(4)]
     if lines.height is not None:
         segs.append(lines.height)
+    ids = [f"{SHEET_GUIDE}{k}" for k in range(1, len(segs) + 1)]
+    if lines.floor is not None:  # shown while a step stands a part on the floor
+        segs.append(lines.floor)
+        ids.append(SHEET_FLOOR)
     out = []
-    for k, (a, b) in enumerate(segs, start=1):
+    for gid, (a, b) in zip(ids, segs):
         mm = camera.project(np.array([a, b], dtype=float))
-        out.append(Guide(f"{SHEET_GUIDE}{k}", "new", a, b, (float(mm[0, 0]), float(mm[0, 1])),
+        out.append(Guide(gid, "new", a, b, (float(mm[0, 0]), float(mm[0, 1])),
                          (float(mm[1, 0]), float(mm[1, 1])), "sheet"))
     return tuple(out)
 
