@@ -186,6 +186,20 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                     if i not in order:
                         order.append(i)
         named.append(order)
+    # a line a step takes "from step N" is lettered on step N's picture too, where it was
+    # drawn (the desk's "Centre part 2 on HM from step 3": step 3 carried the line to M
+    # without naming M)
+    for k, specs in enumerate(steps):
+        for s in specs:
+            fields = dict(s.fields)
+            n = fields.get("step")
+            if not (isinstance(n, int) and 0 < n <= k):
+                continue
+            for value in fields.values():
+                for p in _points_of(value):
+                    i = find(p)
+                    if i not in named[n - 1]:
+                        named[n - 1].append(i)
     last: dict[int, int] = {}
     for k, order in enumerate(named):
         for i in order:

@@ -418,7 +418,8 @@ def test_id_named_parts_are_called_by_short_labels_drawn_on_the_picture_and_list
 
 
 def test_a_line_used_from_an_earlier_step_has_the_same_letters_there(examples):
-    """"Use KL from step 2": step 2's picture shows K and L at the same points."""
+    """"Use KL from step 2" (or "Centre it on EN, carried in step 9"): step 2's picture shows
+    K and L at the same points (step 9 had carried EN without naming N)."""
     checked = 0
     for name, (t, plan, views) in examples.items():
         for (view, level), vp in views.items():
@@ -427,14 +428,15 @@ def test_a_line_used_from_an_earlier_step_has_the_same_letters_there(examples):
             for s in vp.steps:
                 here = {lb.name: lb.at3d for lb in s.labels if lb.kind == "point"}
                 for x in s.substeps:
-                    m = re.search(r"from steps? (\d+)", x)
+                    m = re.search(r"(?:from steps?|, carried in step|, extended in step) (\d+)",
+                                  x)
                     if not m:
                         continue
                     n = int(m.group(1))
                     assert n < s.index
                     there = {lb.name: lb.at3d for lb in vp.steps[n - 1].labels
                              if lb.kind == "point"}
-                    for letter in _letters_in([x.split(" from step")[0]]):
+                    for letter in _letters_in([x[:m.start()]]):
                         assert letter in there, (name, s.index, x, sorted(there))
                         assert np.allclose(here[letter], there[letter]), (name, s.index, x)
                         checked += 1
