@@ -1157,3 +1157,50 @@ def test_parts_on_the_floor_under_a_raised_first_box_are_stood_on_it(shared_mode
         # and stays on the paper until then (no erase hint retires it earlier)
         last = max(s.index for s in standing)
         assert all(seq_drafts.SHEET_FLOOR in s.alive for s in vp.steps[:last])
+
+
+def test_a_copy_right_over_its_original_says_which_way_it_lies(shared_models):
+    # a read-through: the desk's two modesty panels, 12 mm apart in depth, read "Part 3: the
+    # same flat rectangle, where the picture shows it" over what the picture drew as one
+    # double line; a copy moved along one axis only, whose centre lies within NEAR_COPY_MM
+    # of its original's on the sheet, now says "directly behind it" (in front, to its left..)
+    from h2s_print.config import load_tutorial
+    from h2s_print.sequence import repeats
+    from h2s_print.templates import lookup
+    from conftest import CONFIGS
+
+    table = {k: lookup("steps", f"shifts.{k}") for k in
+             ("x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi")}
+    said = 0
+    for model in ("desk_fredrik", "oven_101773"):
+        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
+        plan = build_plan(t.model, t.solver, t.views)
+        for view in t.views:
+            vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+            names = {lb.name: lb for s in vp.steps for lb in s.labels if lb.kind == "part"}
+            for s in vp.steps:
+                for x in s.substeps:
+                    m = re.match(r"(.+): the same .+, directly (.+)\.$", x)
+                    if not m:
+                        continue
+                    key = next(k for k, v in table.items() if v == m.group(2))
+                    axis, end = "xyz".index(key[0]), key[2:]
+                    first = plan.chosen()[s.part].box
+                    copy_part = next(p for p in plan.chosen() if names.get(m.group(1).lower())
+                                     and names[m.group(1).lower()].at3d is not None
+                                     and _inside(names[m.group(1).lower()].at3d,
+                                                 plan.chosen()[p].box))
+                    copy = plan.chosen()[copy_part].box
+                    a, b = np.asarray(first, float), np.asarray(copy, float)
+                    moved = [k for k in range(3) if np.abs(a[:, k] - b[:, k]).max() > 1e-9]
+                    assert moved == [axis], (model, x)
+                    assert (b[:, axis].mean() > a[:, axis].mean()) == (end == "hi"), (model, x)
+                    ca, cb = vp.camera.project(np.array([a.mean(axis=0), b.mean(axis=0)]))
+                    assert np.hypot(*(cb - ca)) < repeats.NEAR_COPY_MM
+                    said += 1
+    assert said >= 2  # the desk's panels in both views
+
+
+def _inside(p, box) -> bool:
+    lo, hi = (np.asarray(x, float) for x in box)
+    return bool(np.all(np.asarray(p) >= lo - 1e-9) and np.all(np.asarray(p) <= hi + 1e-9))

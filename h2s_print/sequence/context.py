@@ -1122,7 +1122,7 @@ class _Context(_Repeats, _Ellipses):
                 rows = self.spaced_rows(group, boxes)
                 spaced = {q for row, _, _ in rows for q in row[2:]}
                 rest = [q for q in group[1:] if q not in spaced]
-                repeat = self.same_sentence(rest, shape, keep)
+                repeat = self.same_sentence(rest, shape, keep, p)
                 made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
                                              repeat=repeat)
                 if rest:

@@ -21,7 +21,7 @@ from .geometry import (
     _scaffold,
     _too_small,
 )
-from .words import _cap, _join, _ratio_words, _substep_of, _t
+from .words import _cap, _join, _ratio_words, _raw, _substep_of, _t
 
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
 #: fraction (and their primitive types and triangle counts are equal): drawn as one step.
@@ -31,6 +31,13 @@ REPEAT_TOL = 0.02
 #: A copy's position is said in ratio words up to this many words; longer, it is placed as the
 #: picture shows it (the words would outweigh the drawing).
 REPEAT_WHERE_WORDS = 16
+
+
+#: A copy whose box's centre lies this close to its original's on the sheet, moved along one
+#: axis only, is said to lie "directly behind it" (or in front, above ...): where the picture
+#: shows it, it can hardly be told apart (the desk's two modesty panels, 12 mm apart in depth,
+#: read "Part 3: the same flat rectangle, where the picture shows it" over a double line), mm.
+NEAR_COPY_MM = 5.0
 
 
 #: Identical parts form an equally spaced row (:meth:`_Context.spaced_rows`) when their steps
@@ -98,22 +105,47 @@ class _Repeats:
             return {q: "" for q in members}
         return where
 
-    def same_sentence(self, members: Sequence[str], shape: str, keep: set[str]) -> list[Spec]:
+    def same_sentence(self, members: Sequence[str], shape: str, keep: set[str],
+                      first: str | None = None) -> list[Spec]:
         """"Knob 2 and knob 3: the same box, its back in line with the body's front." for the
-        group's other members, those placed alike said together (:meth:`copy_places`)."""
+        group's other members, those placed alike said together (:meth:`copy_places`); a
+        copy the picture would place right over ``first`` (:data:`NEAR_COPY_MM`) is said to
+        lie "directly behind it" (:meth:`near_shift`)."""
         if not members:
             return []
         places = self.copy_places(members, keep)
         by_where: dict[str, list[str]] = {}
         for q in sorted(members, key=lambda q: natural_key(self.say(q))):
-            by_where.setdefault(places[q], []).append(q)
+            shift = self.near_shift(first, q) if first is not None and not places[q] else None
+            key = places[q] if shift is None else "\0" + shift
+            by_where.setdefault(key, []).append(q)
         out = []
         for where, qs in by_where.items():
             who = _cap(_join([self.say(q) for q in qs]))
-            out.append(spec("repeat", parts=who, shape=shape, where=where) if where
-                       else spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
-                                 shape=shape))
+            if where.startswith("\0"):
+                out.append(spec("repeat_shift", parts=who, shape=shape,
+                                shift=_raw("shifts")[where[1:]]))
+            elif where:
+                out.append(spec("repeat", parts=who, shape=shape, where=where))
+            else:
+                out.append(spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
+                                shape=shape))
         return out
+
+    def near_shift(self, first: str, q: str) -> str | None:
+        """The ``shifts`` key ("y_hi": behind it) of copy ``q`` from ``first`` when it is moved
+        along one axis only and its centre lies within :data:`NEAR_COPY_MM` of ``first``'s on
+        the sheet; else None."""
+        a = np.asarray(self.chosen[first].box, dtype=float)
+        b = np.asarray(self.chosen[q].box, dtype=float)
+        moved = [k for k in range(3) if np.abs(a[:, k] - b[:, k]).max() > self.tol]
+        if len(moved) != 1:
+            return None
+        ca, cb = self.camera.project(np.array([a.mean(axis=0), b.mean(axis=0)]))
+        if float(np.hypot(*(cb - ca))) >= NEAR_COPY_MM:
+            return None
+        k = moved[0]
+        return f"{'xyz'[k]}_{'hi' if b[:, k].mean() > a[:, k].mean() else 'lo'}"
 
     def spaced_rows(self, group: Sequence[str], boxes: dict[str, Box]
                     ) -> list[tuple[list[str], int, Face]]:
