@@ -88,6 +88,8 @@ def part_farness(primitives: Sequence[Primitive], views: Sequence[ViewSpec]) -> 
     """
     import numpy as np
 
+    from .project import view_direction
+
     if not views or not primitives:
         return {}
     boxes = np.array([p.box for p in primitives], dtype=float)  # (n, 2, 3)
@@ -96,9 +98,8 @@ def part_farness(primitives: Sequence[Primitive], views: Sequence[ViewSpec]) -> 
     centres = boxes.mean(axis=1)
     total = np.zeros(len(primitives))
     for view in views:
-        az, el = np.radians(view.azimuth_deg), np.radians(view.elevation_deg)
-        out = np.array([np.sin(az) * np.cos(el), -np.cos(az) * np.cos(el), np.sin(el)])
-        dist = np.linalg.norm(centres - (target + view.distance * radius * out), axis=1)
+        eye = target + view.distance * radius * view_direction(view)  # as make_camera
+        dist = np.linalg.norm(centres - eye, axis=1)
         span = float(dist.max() - dist.min())
         total += (dist - dist.min()) / span if span > 0 else 0.0
     return {p.part: float(f) for p, f in zip(primitives, total / len(views))}

@@ -28,7 +28,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -94,6 +94,12 @@ def _area(view: ViewSpec, paper: PaperSpec, area_mm: Any) -> tuple[float, float,
     return x0, y0, x1, y1
 
 
+def view_direction(view: ViewSpec) -> np.ndarray:
+    """The unit vector from the object's centre toward ``view``'s eye (model axes)."""
+    az, el = math.radians(view.azimuth_deg), math.radians(view.elevation_deg)
+    return np.array([math.sin(az) * math.cos(el), -math.cos(az) * math.cos(el), math.sin(el)])
+
+
 def make_camera(view: ViewSpec, points: Any, paper: PaperSpec, *,
                 area_mm: Any = None) -> Camera:
     """Build the pinhole camera of ``view`` framing ``points`` on ``paper``.
@@ -132,8 +138,8 @@ def make_camera(view: ViewSpec, points: Any, paper: PaperSpec, *,
     if not view.distance > 1.0:
         raise _fail(view, f"distance {view.distance:g} bounding-sphere radii puts the camera "
                           "inside the object's bounding sphere (need > 1)")
-    az, el = math.radians(view.azimuth_deg), math.radians(view.elevation_deg)
-    out = np.array([math.sin(az) * math.cos(el), -math.cos(az) * math.cos(el), math.sin(el)])
+    az = math.radians(view.azimuth_deg)
+    out = view_direction(view)
     d = view.distance * radius
     position = target + d * out
 
@@ -360,6 +366,11 @@ class FirstBoxLines:
 FLOOR_DROP = 0.05
 
 
+def raised(lo: Sequence[float], hi: Sequence[float], floor_z: float) -> bool:
+    """Does the box ``lo``-``hi`` stand above the floor ``floor_z`` (:data:`FLOOR_DROP`)?"""
+    return lo[2] - floor_z > FLOOR_DROP * max(hi[a] - lo[a] for a in range(3))
+
+
 def first_box_lines(camera: Camera, points3d: Any,
                     floor_z: float | None = None) -> FirstBoxLines | None:
     """The sheet's lines of the box around ``points3d`` (the first scaffold step's stroke
@@ -386,7 +397,7 @@ def first_box_lines(camera: Camera, points3d: Any,
         if not np.any(camera.depth(ends) <= 0):
             height = ends
     floor = None
-    if floor_z is not None and z - floor_z > FLOOR_DROP * float(np.max(hi - lo)):
+    if floor_z is not None and raised(lo, hi, floor_z):
         drop = ((x, y, z), (x, y, float(floor_z)))
         if not np.any(camera.depth(drop) <= 0):
             floor = drop

@@ -10,7 +10,7 @@ import numpy as np
 from ..config import PaperSpec, ViewSpec
 from ..contours import adjust_part
 from ..order import start_part
-from ..project import FLOOR_DROP, make_camera
+from ..project import make_camera, raised
 from ..types import Camera, Part, Vec3
 from .geometry import _anchor_lines, _box_corners
 
@@ -63,7 +63,7 @@ def _floor_points(plan: Any) -> list[Vec3]:
     for boxes, (lo, hi) in (([c.box for c in chosen.values()], chosen[start].box),
                             ([p.box for p in plan.primitives], plan.primitive(start).box)):
         floor = min(b[0][2] for b in boxes)
-        if lo[2] - floor > FLOOR_DROP * max(hi[a] - lo[a] for a in range(3)):
+        if raised(lo, hi, floor):
             out += [(x, y, floor) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
     return out
 

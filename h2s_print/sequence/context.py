@@ -28,7 +28,7 @@ from ..instructions import (
 from ..names import PartName, display_names, natural_key, stem
 from ..occlude import Solid
 from ..order import drawing_order, part_size, start_part
-from ..project import FLOOR_DROP, vanishing_points
+from ..project import raised, vanishing_points
 from ..ratios import entry_for
 from ..types import (
     Box,
@@ -146,6 +146,20 @@ def _by_eye_ellipses(d: _Draft) -> str:
                 "")
 
 
+def _stands_on_floor(d: _Draft) -> bool:
+    """Does draft ``d`` stand a part on the floor the sheet prints ("Its bottom stands on the
+    floor")?"""
+    return any(x.key == "on_floor" for x in d.specs)
+
+
+def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
+    """The first scaffold draft (the first box, whose floor line the sheet prints) and the
+    last draft standing a part on the floor (-1 when none): the floor line's life."""
+    start = next((i for i, d in enumerate(drafts) if d.kind == "primitive" and d.strokes), None)
+    until = max((i for i, d in enumerate(drafts) if _stands_on_floor(d)), default=-1)
+    return start, until
+
+
 #: Citations of the lines an earlier step carried or extended (no line named).
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
@@ -231,9 +245,7 @@ class _Context(_Repeats, _Ellipses):
             return False
         floor = self.floor_z(False)
         first, box = self.chosen[drawn[0]].box, self.chosen[part].box
-        biggest = max(_extent(first, a) for a in range(3))
-        return (first[0][2] - floor > FLOOR_DROP * biggest
-                and abs(box[0][2] - floor) <= self.tol
+        return (raised(*first, floor) and abs(box[0][2] - floor) <= self.tol
                 and not any(a.axis == 2 and a.end == "lo" for a in self.chosen[part].anchors))
 
     def floor_size(self, part: str, drawn: Sequence[str]) -> list[tuple[Spec, list[int]]]:
@@ -634,10 +646,7 @@ class _Context(_Repeats, _Ellipses):
                 last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
         on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
         # the sheet's floor line, kept while a step stands a part on the floor
-        start = next((k for k, d in enumerate(drafts) if d.kind == "primitive" and d.strokes),
-                     None)
-        until = max((k for k, d in enumerate(drafts) if any(x.key == "on_floor"
-                                                              for x in d.specs)), default=-1)
+        start, until = _floor_span(drafts)
         if start is not None and until > start:
             lines = _first_lines(drafts[start].strokes, self.camera, self.floor_z(False))
             if lines is not None and lines.floor is not None:
@@ -1286,15 +1295,12 @@ class _Context(_Repeats, _Ellipses):
         # the sheet prints the first box's footprint and height: the first scaffold step's
         # guides where the level shows guides (DESIGN.md §2.6: a master sees none, and the
         # control tutorial has none)
-        start = next((i for i, d in enumerate(drafts) if d.kind == "primitive" and d.strokes),
-                     None)
+        start, floor_until = _floor_span(drafts)
         printed = (() if start is None or not LEVEL_ROLES[level]
                    else _sheet_guides(_first_lines(drafts[start].strokes, self.camera,
                                                    self.floor_z(level == "basic")),
                                       self.camera))
         floor = [g for g in printed if g.id == SHEET_FLOOR]
-        floor_until = max((i for i, d in enumerate(drafts)
-                           if any(x.key == "on_floor" for x in d.specs)), default=-1)
         steps = []
         for i, (d, gs) in enumerate(zip(drafts, shown)):
             guides = tuple(
@@ -1308,7 +1314,7 @@ class _Context(_Repeats, _Ellipses):
             elif floor and start is not None and start < i <= floor_until:
                 # the floor line stays on the paper while a later step stands a part on it,
                 # and is shown where one does
-                if any(x.key == "on_floor" for x in d.specs):
+                if _stands_on_floor(d):
                     guides = (replace(floor[0], status="reused"),) + guides
                 alive = (floor[0].id,) + alive
             box = None
