@@ -44,6 +44,7 @@ Letters (decisions where the issue is silent)
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -277,11 +278,31 @@ def points_key(points: Sequence[Vec3], tol: float) -> frozenset:
     return frozenset(tuple(int(round(c / tol)) for c in p) for p in points)
 
 
+#: What an apprentice reads for a construction's result line (:func:`brief_specs`), by
+#: its ratio: the construction named as in the primer, the line shown.
+BRIEFS: dict[Fraction, str] = {
+    Fraction(1, 2): "half", Fraction(1, 4): "quarter", Fraction(3, 4): "quarter",
+    Fraction(1, 3): "third", Fraction(2, 3): "third", Fraction(2): "extend",
+    Fraction(-1): "extend", Fraction(3, 2): "extend_half", Fraction(-1, 2): "extend_half",
+}
+#: Sub-step keys that draw a construction's result line themselves (not "from step N").
+DRAWING_KEYS = frozenset({"through", "from", "cross", "through_along", "from_along",
+                          "cross_along"})
+
+
 def construction_specs(con: Construction, parent: str, face: str,
-                       vp: Callable[..., str], tol: float) -> list[Spec]:
+                       vp: Callable[..., str], tol: float, dim: str = "",
+                       ends: tuple[str, str] = ("", "")) -> list[Spec]:
     """The sub-steps of one construction (``h2s_print.constructions.construct``), one per
     ruler operation: the diagonals of a (half) face, a line through their crossing, a line
     through two points and where it crosses another, an edge extended.
+
+    Each spec's field ``role`` is the role of the lines it draws (``construction``: shown
+    to novices only; ``guide``).  The result line's spec also carries what an apprentice
+    reads instead (:func:`brief_specs`): ``brief`` (a key of :data:`BRIEFS`), ``parent``,
+    ``face``, and for an extension ``dim`` (the face's extent the ratio measures) and
+    ``beyond`` (the face's end it extends beyond); so does a construction line through the
+    face's centre (``brief`` ``half``), said to an apprentice where a later step uses it.
 
     Args:
         con: the construction.
@@ -291,8 +312,14 @@ def construction_specs(con: Construction, parent: str, face: str,
             called ``vp(axis)``, or ``vp(axis, start, end)`` for a line drawn from ``start``
             (``away from ...`` when it moves away from the vanishing point).
         tol: two points within this distance are one (for merging equal sub-steps).
+        dim: the name of the face's extent along the construction's axis (``depth`` ...).
+        ends: the names of the face's ends along that axis, ``lo`` then ``hi`` (``front``,
+            ``back``).
     """
     at = dict(con.points)
+    # a construction line through the face's centre halves it: said so to an apprentice
+    # where a later step uses the line as a guide of its own (_Context.promoted)
+    halves = dict(brief="half", parent=parent, face=face, dim=dim, beyond="")
     face_id = (points_key(con.face.corners, tol), con.axis)
     s_axis = con.axis
     t_axis = con.result.axis if con.result.axis is not None else s_axis
@@ -305,7 +332,8 @@ def construction_specs(con: Construction, parent: str, face: str,
         a, b = ln.names
         if ln.key == "align":
             out.append(spec("edge", ("edge", points_key((at[a], at[b]), tol)), ("edge",),
-                            line=Pts((at[a], at[b])), parent=parent, face=face, vp=vp(t_axis)))
+                            line=Pts((at[a], at[b])), parent=parent, face=face, vp=vp(t_axis),
+                            role=ln.role))
         elif ln.key == "diagonal":
             a2, b2 = lines[i + 1].names
             i += 1
@@ -314,7 +342,7 @@ def construction_specs(con: Construction, parent: str, face: str,
                 out.append(spec("diagonals", ("diagonals", points_key(corners.points, tol)),
                                 corners=corners, first=Pts((at["A"], at["C"])),
                                 second=Pts((at["B"], at["D"])), point=Pts((at["O"],)),
-                                parent=parent, face=face))
+                                parent=parent, face=face, role=ln.role))
                 last = "O"
             else:
                 left = "A" in (a, b)
@@ -323,39 +351,78 @@ def construction_specs(con: Construction, parent: str, face: str,
                 out.append(spec("half_diagonals", ("diagonals", points_key([at[n] for n in half], tol)),
                                 ("half", face_id), half=Pts(tuple(at[n] for n in half)),
                                 first=Pts((at[a], at[b])), second=Pts((at[a2], at[b2])),
-                                point=Pts((at[last],))))
-        elif ln.key == "cross":
+                                point=Pts((at[last],)), role=ln.role))
+        elif ln.key == "cross":  # (through the centre: it halves the face)
             out.append(spec("cross", ("line", points_key((at[a], at[b]), tol)), point=Pts((at["O"],)),
-                            line=Pts((at[a], at[b])), vp=vp(s_axis)))
+                            line=Pts((at[a], at[b])), vp=vp(s_axis), role=ln.role,
+                            **halves))
         elif ln.key == "connect":
             if not b.startswith("S"):  # thirds: C-E meets B-D at I1 (D-F meets A-C at I2)
                 crossing = "I1" if "C" in (a, b) else "I2"
                 diagonal = ("B", "D") if crossing == "I1" else ("A", "C")
                 out.append(spec("connect", ("line", points_key((at[a], at[b]), tol)), ("third", face_id),
                                 line=Pts((at[a], at[b])), other=Pts(tuple(at[n] for n in diagonal)),
-                                point=Pts((at[crossing],))))
+                                point=Pts((at[crossing],)), role=ln.role))
                 last = crossing
             else:  # extension: origin -> midpoint of the shared edge -> the new point
                 mid = "F" if _s(at, con, b) > 1 else "E"
                 out.append(spec("connect_through", ("line", points_key((at[a], at[b]), tol)),
                                 start=Pts((at[a],)), through=Pts((at[mid],)),
-                                point=Pts((at[b],))))
+                                point=Pts((at[b],)), role=ln.role))
                 last = b
         elif ln.key == "extend":
             beyond = "B" if a == "A" else "A"
             out.append(spec("extend", ("line", points_key((at[a], at[b]), tol)),
                             edge=Pts((at[a], at[beyond])), end=Pts((at[beyond],)),
-                            vp=vp(s_axis)))
+                            vp=vp(s_axis), role=ln.role))
         elif ln.key == "division":
             through = last if last is not None else a
             key = "from" if through in (a, b) else "through"
             twin = ("result", face_id) if ln.role == "guide" and through in ("Q1", "Q3", "I1", "I2") else ()
             # a line drawn from a point runs one way: toward its vanishing point or away
             way = (at[through], at[b if through == a else a]) if key == "from" else ()
+            brief = (dict(brief=BRIEFS[con.ratio], parent=parent, face=face, dim=dim,
+                          beyond=ends[1] if con.ratio > 1 else ends[0])
+                     if ln.role == "guide" and con.ratio in BRIEFS
+                     else halves if through == "O" else {})
             out.append(spec(key, ("line", points_key((at[a], at[b]), tol)), twin,
                             point=Pts((at[through],)), line=Pts((at[a], at[b])),
-                            vp=vp(t_axis, *way)))
+                            vp=vp(t_axis, *way), role=ln.role, **brief))
         i += 1
+    return out
+
+
+def brief_specs(specs: Sequence[Spec],
+                shown: Callable[[Pts, int], bool] = lambda line, step: True) -> list[Spec]:
+    """What an apprentice reads for ``specs``: the picture shows the resulting guides only
+    (DESIGN.md §2.6), so a sub-step that draws only construction lines (field ``role``) is
+    left out, and one that draws a construction's result line names the construction as
+    the primer does, with the line: "Halve the body's top face: draw XY toward the right
+    vanishing point."  A result taken from an earlier step ("Use XY from step 4"), and
+    every sub-step that is not a construction's, stays as it is, except that a line reused
+    "through E" is only reused (the crossing E is of construction lines not drawn).  A line
+    an earlier step drew as a construction line (``shown(line, step)`` false: the
+    apprentice's picture of that step left it out) is said as constructed here when the
+    sub-step can say so (the mixer's "Use NP from step 6" for a bowl ellipse's middle line,
+    where step 6 drew NP only to quarter the face).
+
+    A read-through of stop 26: the apprentice's text asked for the diagonals DS and RC, the
+    lines UV and GW and their crossing T, none of which its picture drew (only T's letter).
+    """
+    out: list[Spec] = []
+    for s in specs:
+        f = dict(s.fields)
+        if f.get("role") == "construction":
+            continue
+        cited = s.key in ("through_reuse", "cross_reuse", "from_reuse")
+        line = f.get("line")
+        if cited and (not isinstance(line, Pts) or len(line.points) != 2
+                      or shown(line, f["step"])):  # (through a crossing not drawn)
+            s = spec("from_reuse", s.same, s.pair, line=f["line"], step=f["step"])
+        elif "brief" in f and (s.key in DRAWING_KEYS or cited):
+            s = spec(f"brief_{f['brief']}", s.same, s.pair, line=f["line"], vp=f["vp"],
+                     parent=f["parent"], face=f["face"], dim=f["dim"], beyond=f["beyond"])
+        out.append(s)
     return out
 
 

@@ -24,6 +24,7 @@ from h2s_print.instructions import (
     ALPHABET,
     Many,
     Pts,
+    brief_specs,
     construction_specs,
     letter_steps,
     spec,
@@ -106,6 +107,29 @@ def test_twins_are_said_once_in_the_plural():
     last = dict(specs[-1].fields)
     assert isinstance(last["line"], Many) and len(last["line"].items) == 2
     assert isinstance(last["point"], Many) and len(last["point"].items) == 2
+
+
+@pytest.mark.parametrize("ratio, brief", [(0.5, "half"), (0.25, "quarter"), (2 / 3, "third"),
+                                          (2.0, "extend"), (-0.5, "extend_half")])
+def test_an_apprentice_reads_the_construction_by_name_and_the_result_line(ratio, brief):
+    """An apprentice's picture shows the result line only: the construction's sub-steps
+    become one, naming the construction and the line, and no other point is named."""
+    face = Face(BOX, 1, "lo")
+    con = construct(face, 0, ratio)
+    full = construction_specs(con, "body", "front", _vp, 1e-9, "width", ("left side", "right side"))
+    short = brief_specs(full)
+    assert len(short) == 1 and short[0].key == f"brief_{brief}" and len(full) > 1
+    f = dict(short[0].fields)
+    named = [v for _, v in short[0].fields if isinstance(v, (Pts, Many))]
+    assert named == [f["line"]]
+    # the line is the construction's result
+    a, b = f["line"].points
+    assert {tuple(np.round(a, 9)), tuple(np.round(b, 9))} == {
+        tuple(np.round(con.result.start, 9)), tuple(np.round(con.result.end, 9))}
+    if brief.startswith("extend"):
+        assert f["beyond"] == ("right side" if ratio > 1 else "left side") and f["dim"] == "width"
+    text = seq_words._substep(short[0].key, {**f, "line": "XY"})
+    assert "XY" in text and "body" in text
 
 
 # ----------------------------------------------------------------------------- letters
@@ -330,8 +354,10 @@ def test_a_step_stays_short_and_a_master_reads_headline_and_ratio_words(examples
                     if s.kind == "guides":
                         assert not any(x.startswith("Use ") for x in s.substeps), s.substeps
                     else:
+                        # (an apprentice's construction said as one sub-step: "Halve ...")
                         assert all(re.match(r"(Use [A-Z',]|Carry |Centre |Draw the |Keep its |Its |"
-                                            r"[A-Z][a-z]+ \d+|[A-Z][a-z ]+: the same)", x)
+                                            r"[A-Z][a-z]+ \d+|[A-Z][a-z ]+: the same|"
+                                            r"(Halve|Quarter|Divide|Extend) |Through the centre)", x)
                                    for x in s.substeps), (name, s.index, s.substeps)
 
 

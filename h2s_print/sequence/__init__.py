@@ -119,9 +119,13 @@ Decisions where the brief is open (kept here, in one place)
   step and a close-up of its own).
 * **Levels.**  ``novice`` sees every line (roles ``construction``, ``guide``, ``vanishing``),
   ``apprentice`` the resulting lines and the alignment lines that carry them (``guide``,
-  ``vanishing``), ``master`` none.  Novice and apprentice have the same steps and texts (the
-  lettered sub-steps say what to construct); a master has the same steps but the guides
-  steps (kind ``guides``), and reads each step's headline and its ratio words.  ``basic`` is the paper's control
+  ``vanishing``), ``master`` none.  Novice and apprentice have the same steps; the
+  apprentice's sub-steps leave out those that draw only construction lines, and say a
+  construction's result by the construction's name ("Halve the body's front face: draw EF
+  ..."; :func:`~h2s_print.instructions.brief_specs`), lettered anew; a construction line a
+  later step uses as a guide is a guide where it is drawn (:meth:`_Context.promoted`).  A
+  master has the same steps but the guides steps (kind ``guides``), and reads each step's
+  headline and its ratio words.  ``basic`` is the paper's control
   tutorial: the fitted (original) primitives, the start part first (as the guided order; the
   paper's control also starts on the ground plane), then from largest to smallest
   :func:`h2s_print.order.part_size` of the fitted box (ties: name), kind ``basic``, eyeball

@@ -18,6 +18,7 @@ from ..instructions import (
     Many,
     Pts,
     Spec,
+    brief_specs,
     construction_specs,
     letter_steps,
     line_runs,
@@ -179,6 +180,8 @@ class _Context(_Repeats, _Ellipses):
     adjusted: dict[str, Part]
     originals: dict[str, Part]
     _guided: tuple[_Draft, ...] | None = None
+    _unlettered: tuple[_Draft, ...] = ()  # the guided drafts before letters
+    _apprentice: tuple[_Draft, ...] | None = None
     _basic: tuple[_Draft, ...] | None = None
     _ids: tuple[tuple[tuple[str, str], ...], ...] | None = None
     _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
@@ -433,10 +436,13 @@ class _Context(_Repeats, _Ellipses):
         """``build(sizes[:n])``, the sub-steps with the most size sentences (biggest axes
         first) that keep the step within :data:`MAX_STEP_WORDS`: sizes help the eye, but
         never make a step longer than the limit or split it (they are not counted when
-        constructions are packed into steps)."""
+        constructions are packed into steps), at novice nor at apprentice, whose sub-step
+        naming a construction can be longer than the novice's last line of it
+        (:func:`~h2s_print.instructions.brief_specs`)."""
         for n in range(len(sizes), 0, -1):
             specs = build(sizes[:n])
-            if self.step_words(specs, headline) <= MAX_STEP_WORDS:
+            if max(self.step_words(specs, headline),
+                   self.step_words(brief_specs(specs), headline)) <= MAX_STEP_WORDS:
                 return specs
         return build([])
 
@@ -635,14 +641,18 @@ class _Context(_Repeats, _Ellipses):
         return [x for x in out if not (x.key in ("reuse_carried", "reuse_extended")
                                        and dict(x.fields)["step"] in drop)]
 
-    def letter(self, drafts: Sequence[_Draft]) -> list[_Draft]:
+    def letter(self, drafts: Sequence[_Draft], roles: frozenset[str] = LEVEL_ROLES["novice"]
+               ) -> list[_Draft]:
         """The drafts with their sub-steps formatted and their points lettered, the whole
-        tutorial at once (:func:`h2s_print.instructions.letter_steps`)."""
+        tutorial at once (:func:`h2s_print.instructions.letter_steps`), for a level that
+        shows lines of ``roles``."""
         # a line is drawn from the first step that uses it to the last (the guides' lifetime):
         # its ends stay on the paper that long
         last: dict[tuple, tuple[int, Vec3, Vec3]] = {}  # by line: its last step, its ends
         for k, d in enumerate(drafts):
             for ln in d.lines:
+                if ln.role not in roles:
+                    continue
                 last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
         on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
         # the sheet's floor line, kept while a step stands a part on the floor
@@ -797,7 +807,8 @@ class _Context(_Repeats, _Ellipses):
                 unit.origin[len(unit.results) - 1] = old[0]
             else:
                 made = construction_specs(con, self.say(ppart), words.face(face.normal, face.end),
-                                          words.vp, self.tol)
+                                          words.vp, self.tol, words.dim(con.axis),
+                                          (words.side(con.axis, "lo"), words.side(con.axis, "hi")))
                 if around and self.uses_box(ppart, around, con):
                     # the face is the box's around the tapered part, larger than the part's
                     # own end (a read-through: "the prism's top face" is the smaller one)
@@ -1209,8 +1220,60 @@ class _Context(_Repeats, _Ellipses):
                 else:
                     drafts.append(e)
             drafts += self.pack_outlines(merged, lead)
-            self._guided = tuple(self.letter(drafts))
+            self._unlettered = tuple(self.promoted(drafts))
+            self._guided = tuple(self.letter(self._unlettered))
         return self._guided
+
+    def promoted(self, drafts: Sequence[_Draft]) -> list[_Draft]:
+        """``drafts`` with a construction line that a later step uses as a guide of its own
+        made a guide where a sub-step that can say how draws it (field ``brief``): the
+        train's boiler is centred on FG, the half line step 3 drew on the way to the cab's
+        third.  An apprentice, who sees guides only, then sees FG drawn in step 3 and reads
+        "Halve the engine's top face: draw FG ..." there, where step 5 cites it; plan.json
+        calls it a guide."""
+        used = [(ln.start, ln.end, k) for k, d in enumerate(drafts) for ln in d.lines
+                if ln.role != "construction"]
+        out = []
+        for k, d in enumerate(drafts):
+            def later(a: Vec3, b: Vec3) -> bool:
+                return any(j > k and _same_segment(a, b, p, q, self.tol) for p, q, j in used)
+
+            up: list[Pts] = []
+            specs = []
+            for s in d.specs:
+                f = dict(s.fields)
+                line = f.get("line")
+                if (f.get("role") == "construction" and "brief" in f and isinstance(line, Pts)
+                        and len(line.points) == 2 and later(*line.points)):
+                    up.append(line)
+                    s = spec(s.key, s.same, s.pair, **{**f, "role": "guide"})
+                specs.append(s)
+            if up:
+                d = replace(d, specs=tuple(specs), lines=tuple(
+                    _Line("guide", ln.start, ln.end) if ln.role == "construction" and any(
+                        _same_segment(ln.start, ln.end, *u.points, self.tol) for u in up)
+                    else ln for ln in d.lines))
+            out.append(d)
+        return out
+
+    def apprentice(self) -> tuple[_Draft, ...]:
+        """The guided drafts as an apprentice reads them: the same steps, each sub-step that
+        draws only construction lines (which the apprentice's picture leaves out) left out,
+        a construction's result said as the construction (:func:`brief_specs`), lettered
+        anew over the apprentice's steps."""
+        if self._apprentice is None:
+            self.guided()
+            drafts = self._unlettered
+            roles = LEVEL_ROLES["apprentice"]
+
+            def shown(line: Pts, step: int) -> bool:  # on step ``step``'s picture
+                a, b = line.points
+                return any(ln.role in roles and _same_segment(a, b, ln.start, ln.end, self.tol)
+                           for ln in drafts[step - 1].lines)
+
+            self._apprentice = tuple(self.letter(
+                [replace(d, specs=tuple(brief_specs(d.specs, shown))) for d in drafts], roles))
+        return self._apprentice
 
     def basic(self) -> tuple[_Draft, ...]:
         if self._basic is None:
@@ -1273,7 +1336,7 @@ class _Context(_Repeats, _Ellipses):
             drafts = self.basic()
             shown: list[list[tuple[str, str]]] = [[] for _ in drafts]
         else:
-            drafts = self.guided()
+            drafts = self.apprentice() if level == "apprentice" else self.guided()
             roles = LEVEL_ROLES[level]
             shown = [[(g, r) for g, r in ids if r in roles] for ids in self.guide_ids()]
             if level == "master":  # a master sees no guides: no guides steps, the ratio words

@@ -189,16 +189,21 @@ class _Ellipses:
         t = fe.touch  # the middles of the edges: (u hi, v hi, u lo, v lo), round the face
         around = Many(tuple(Pts((x,)) for x in t))
         hidden_runs = any(st.kind == "ellipse_hidden" for st in strokes)
+        # (an apprentice, whose picture shows no diagonals, reads "Through the centre of
+        # the lens's front face, draw ..." for the lines through it: brief_specs)
+        face = self.words.face(fe.face.normal, fe.face.end)
+        centre = dict(brief="centre" if solid else "centre_plate", parent=self.say(part),
+                      face=face, dim="", beyond="", role="guide")
         return [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
-                     point=Pts((fe.centre,)), part=self.say(part),
-                     face=self.words.face(fe.face.normal, fe.face.end))
+                     point=Pts((fe.centre,)), part=self.say(part), face=face,
+                     role="construction")
                 if solid else  # a plate is drawn as one rectangle
                 spec("ellipse_diagonals_plate", first=Pts((a, c)), second=Pts((b, d)),
-                     point=Pts((fe.centre,)), part=self.say(part)),
+                     point=Pts((fe.centre,)), part=self.say(part), role="construction"),
                 spec("through", point=Pts((fe.centre,)), line=Pts((t[2], t[0])),
-                     vp=self.words.vp(u)),
+                     vp=self.words.vp(u), **centre),
                 spec("through", point=Pts((fe.centre,)), line=Pts((t[3], t[1])),
-                     vp=self.words.vp(v)),
+                     vp=self.words.vp(v), **centre),
                 spec("ellipse_draw_hidden" if hidden_runs else "ellipse_draw", points=around)]
 
     def contour_drafts(self, order: Sequence[str], parts: dict[str, Part]) -> list[_Draft]:
