@@ -42,6 +42,10 @@ def main() -> None:
     master = next(v for v in result.views if v.name == view.name and v.level == "master")
     master_pages = lay_out_workbook(tutorial.title, master, tutorial.paper,
                                     view_label=master.name)
+    apprentice = next(v for v in result.views
+                      if v.name == view.name and v.level == "apprentice")
+    apprentice_pages = lay_out_workbook(tutorial.title, apprentice, tutorial.paper,
+                                        view_label=apprentice.name)
     train = load_tutorial(ROOT / "configs" / "train.yaml")
     tres = plan_tutorial(train)
     tview = tres.views[0]
@@ -54,6 +58,8 @@ def main() -> None:
         "page-step-first": steps[0],  # the first box on the sheet's printed lines
         "page-step-guides": first["guides"],
         "page-step-master": [p for p in master_pages if p.kind == "steps"][1],
+        # the grip's guides: the construction by name, the result line drawn
+        "page-step-apprentice": [p for p in apprentice_pages if p.kind == "steps"][1],
         "page-step-repeat": repeat,
         "page-cover": next(p for p in pages if p.kind == "cover"),
         "page-primer": next(p for p in pages if p.kind == "primer"),
