@@ -300,8 +300,10 @@ def construction_specs(con: Construction, parent: str, face: str,
     Each spec's field ``role`` is the role of the lines it draws (``construction``: shown
     to novices only; ``guide``).  The result line's spec also carries what an apprentice
     reads instead (:func:`brief_specs`): ``brief`` (a key of :data:`BRIEFS`), ``parent``,
-    ``face``, and for an extension ``dim`` (the face's extent the ratio measures) and
-    ``beyond`` (the face's end it extends beyond); so does a construction line through the
+    ``face``, ``near`` (the face's end the line is nearer, for a quarter or a third), and
+    for an extension ``dim`` (the face's extent the ratio measures) and ``beyond`` (the
+    face's end it extends beyond); the sequence stage adds ``box`` where the face is the box
+    around a tapered part's.  So does a construction line through the
     face's centre (``brief`` ``half``), said to an apprentice where a later step uses it.
 
     Args:
@@ -319,7 +321,7 @@ def construction_specs(con: Construction, parent: str, face: str,
     at = dict(con.points)
     # a construction line through the face's centre halves it: said so to an apprentice
     # where a later step uses the line as a guide of its own (_Context.promoted)
-    halves = dict(brief="half", parent=parent, face=face, dim=dim, beyond="")
+    halves = dict(brief="half", parent=parent, face=face, dim=dim, beyond="", near="")
     face_id = (points_key(con.face.corners, tol), con.axis)
     s_axis = con.axis
     t_axis = con.result.axis if con.result.axis is not None else s_axis
@@ -382,7 +384,8 @@ def construction_specs(con: Construction, parent: str, face: str,
             # a line drawn from a point runs one way: toward its vanishing point or away
             way = (at[through], at[b if through == a else a]) if key == "from" else ()
             brief = (dict(brief=BRIEFS[con.ratio], parent=parent, face=face, dim=dim,
-                          beyond=ends[1] if con.ratio > 1 else ends[0])
+                          beyond=ends[1] if con.ratio > 1 else ends[0],
+                          near=ends[0] if con.ratio < Fraction(1, 2) else ends[1])
                      if ln.role == "guide" and con.ratio in BRIEFS
                      else halves if through == "O" else {})
             out.append(spec(key, ("line", points_key((at[a], at[b]), tol)), twin,
@@ -392,7 +395,12 @@ def construction_specs(con: Construction, parent: str, face: str,
     return out
 
 
-def brief_specs(specs: Sequence[Spec],
+#: Constructions that give several lines: said in the plural when the step draws two
+#: (``brief_quarters``), else with the end the line is nearer.
+_SEVERAL = ("quarter", "third")
+
+
+def brief_specs(specs: Sequence[Spec], where: Callable[[str, str, str], str],
                 shown: Callable[[Pts, int], bool] = lambda line, step: True) -> list[Spec]:
     """What an apprentice reads for ``specs``: the picture shows the resulting guides only
     (DESIGN.md §2.6), so a sub-step that draws only construction lines (field ``role``) is
@@ -406,8 +414,15 @@ def brief_specs(specs: Sequence[Spec],
     sub-step can say so (the mixer's "Use NP from step 6" for a bowl ellipse's middle line,
     where step 6 drew NP only to quarter the face).
 
+    The face is said by ``where(kind, parent, face)``, ``kind`` ``face``, ``box`` (the
+    box around a tapered part, field ``box``) or ``plate`` (a round plate's rectangle):
+    field ``where``.  The two lines through an ellipse's centre are one sub-step.
+
     A read-through of stop 26: the apprentice's text asked for the diagonals DS and RC, the
     lines UV and GW and their crossing T, none of which its picture drew (only T's letter).
+    A read-through of stop 27: "Quarter the base body's front face: draw AB" left the
+    reader to guess which of three quarter lines AB is ("..., a quarter in from its top"),
+    and "the prism's top face" was the top of the box around it.
     """
     out: list[Spec] = []
     for s in specs:
@@ -420,8 +435,21 @@ def brief_specs(specs: Sequence[Spec],
                       or shown(line, f["step"])):  # (through a crossing not drawn)
             s = spec("from_reuse", s.same, s.pair, line=f["line"], step=f["step"])
         elif "brief" in f and (s.key in DRAWING_KEYS or cited):
-            s = spec(f"brief_{f['brief']}", s.same, s.pair, line=f["line"], vp=f["vp"],
-                     parent=f["parent"], face=f["face"], dim=f["dim"], beyond=f["beyond"])
+            kind, place = f["brief"], "box" if f.get("box") else "face"
+            if kind in _SEVERAL and isinstance(f["line"], Many):
+                kind += "s"
+            elif kind == "centre_plate":
+                kind, place = "centre", "plate"
+            s = spec(f"brief_{kind}", s.same, s.pair, line=f["line"], vp=f["vp"],
+                     where=where(place, f["parent"], f["face"]), dim=f["dim"],
+                     beyond=f["beyond"], near=f["near"])
+            if out and out[-1].key == s.key == "brief_centre":
+                first = dict(out[-1].fields)  # both lines through one centre: one sub-step
+                if first["where"] == dict(s.fields)["where"]:
+                    out[-1] = spec("brief_centre_two", out[-1].same, (), line=first["line"],
+                                   vp=first["vp"], where=first["where"], lines2=f["line"],
+                                   vp2=f["vp"])
+                    continue
         out.append(s)
     return out
 

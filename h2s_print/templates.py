@@ -52,7 +52,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "Part", "Parts", "about", "amount", "counts", "dim", "dims", "edge", "edges", "end",
         "face", "faces", "first", "fraction", "half", "hi", "index", "kind", "label", "line",
         "lines", "lines2", "lo", "n", "new", "other", "parent", "part", "parts", "point",
-        "beyond", "points", "position", "pside", "psides", "directions", "reused", "second", "shape", "shift", "side", "sides", "small", "large", "start",
+        "beyond", "near", "points", "position", "pside", "psides", "directions", "reused", "second", "shape", "shift", "side", "sides", "small", "large", "start",
         "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "total",
         "turns",
         "vp", "vp2", "where", "words")),

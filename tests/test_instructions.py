@@ -117,8 +117,10 @@ def test_an_apprentice_reads_the_construction_by_name_and_the_result_line(ratio,
     face = Face(BOX, 1, "lo")
     con = construct(face, 0, ratio)
     full = construction_specs(con, "body", "front", _vp, 1e-9, "width", ("left side", "right side"))
-    short = brief_specs(full)
+    short = brief_specs(full, lambda kind, parent, face: f"{parent}'s {face} face")
     assert len(short) == 1 and short[0].key == f"brief_{brief}" and len(full) > 1
+    if brief in ("quarter", "third"):  # which of the lines: the end it is nearer
+        assert dict(short[0].fields)["near"] == ("left side" if ratio < 0.5 else "right side")
     f = dict(short[0].fields)
     named = [v for _, v in short[0].fields if isinstance(v, (Pts, Many))]
     assert named == [f["line"]]
@@ -129,7 +131,7 @@ def test_an_apprentice_reads_the_construction_by_name_and_the_result_line(ratio,
     if brief.startswith("extend"):
         assert f["beyond"] == ("right side" if ratio > 1 else "left side") and f["dim"] == "width"
     text = seq_words._substep(short[0].key, {**f, "line": "XY"})
-    assert "XY" in text and "body" in text
+    assert "XY" in text and "body's front face" in text
 
 
 # ----------------------------------------------------------------------------- letters

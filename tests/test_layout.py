@@ -1015,3 +1015,16 @@ def test_the_desks_horizon_arrow_no_longer_runs_through_a_label(shared_models):
         vp, = seq.sequence_views(plan, view, ("novice",), t.paper, t.sequence)
         _arrows_clear_of_texts("desk", view.name,
                                S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm))
+
+
+def test_an_apprentice_cover_says_to_draw_construction_lines_faintly(examples):
+    from h2s_print import templates
+    from h2s_print.layout import lay_out_workbook
+
+    t, plan, views = examples["camera"]
+    line = templates.text("pages", "cover.how_apprentice")
+    for level in ("novice", "apprentice"):
+        vp = views[(t.views[0].name, level)]
+        cover = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name)[0]
+        said = " ".join(it.string for it in cover.items if getattr(it, "role", "") == "how")
+        assert (line.split()[0] + " " + line.split()[1] in said) == (level == "apprentice")

@@ -2218,3 +2218,21 @@ def test_an_apprentice_is_told_only_of_lines_its_picture_draws(examples, shared_
                     name, view, s.index, lb.name, s.substeps)
                 checked += 1
     assert checked > 200 and lines_checked > 100
+
+
+def test_an_apprentice_reads_the_face_its_novice_constructs_on(examples):
+    """A construction on the box around a tapered part is said so to an apprentice too
+    (stop 27's read-through: "Halve the prism's top face", where U and V lay on the box
+    around the prism, outside the prism's smaller top), and the cover says to draw the
+    construction lines the pictures leave out faintly."""
+    boxed = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            nov, app = views[(view.name, "novice")], views[(view.name, "apprentice")]
+            for a, b in zip(nov.steps, app.steps):
+                faces = re.findall(r"of the (\w+) face of the box around (the [\w ]+?),", a.text)
+                for face, part in faces:
+                    assert f"{face} face of the box around {part}" in b.text, (name, b.text)
+                    assert f"{part}'s {face} face" not in b.text
+                    boxed += 1
+    assert boxed >= 2

@@ -442,7 +442,8 @@ class _Context(_Repeats, _Ellipses):
         for n in range(len(sizes), 0, -1):
             specs = build(sizes[:n])
             if max(self.step_words(specs, headline),
-                   self.step_words(brief_specs(specs), headline)) <= MAX_STEP_WORDS:
+                   self.step_words(brief_specs(specs, self.brief_where), headline)
+                   ) <= MAX_STEP_WORDS:
                 return specs
         return build([])
 
@@ -812,7 +813,9 @@ class _Context(_Repeats, _Ellipses):
                 if around and self.uses_box(ppart, around, con):
                     # the face is the box's around the tapered part, larger than the part's
                     # own end (a read-through: "the prism's top face" is the smaller one)
-                    made = [replace(x, key="diagonals_box") if x.key == "diagonals" else x
+                    made = [replace(x, key="diagonals_box") if x.key == "diagonals"
+                            else spec(x.key, x.same, x.pair, box=True, **dict(x.fields))
+                            if any(k == "brief" for k, _ in x.fields) else x
                             for x in made]
                 unit.specs += made
                 unit.room = unit.room or entry_for(anchor.ratio).needs_room
@@ -1224,6 +1227,11 @@ class _Context(_Repeats, _Ellipses):
             self._guided = tuple(self.letter(self._unlettered))
         return self._guided
 
+    @staticmethod
+    def brief_where(kind: str, parent: str, face: str) -> str:
+        """The face an apprentice's construction sentence names (``brief_where``)."""
+        return _t(f"brief_where.{kind}", parent=parent, face=face)
+
     def promoted(self, drafts: Sequence[_Draft]) -> list[_Draft]:
         """``drafts`` with a construction line that a later step uses as a guide of its own
         made a guide where a sub-step that can say how draws it (field ``brief``): the
@@ -1272,7 +1280,8 @@ class _Context(_Repeats, _Ellipses):
                            for ln in drafts[step - 1].lines)
 
             self._apprentice = tuple(self.letter(
-                [replace(d, specs=tuple(brief_specs(d.specs, shown))) for d in drafts], roles))
+                [replace(d, specs=tuple(brief_specs(d.specs, self.brief_where, shown)))
+                 for d in drafts], roles))
         return self._apprentice
 
     def basic(self) -> tuple[_Draft, ...]:

@@ -193,7 +193,7 @@ class _Ellipses:
         # the lens's front face, draw ..." for the lines through it: brief_specs)
         face = self.words.face(fe.face.normal, fe.face.end)
         centre = dict(brief="centre" if solid else "centre_plate", parent=self.say(part),
-                      face=face, dim="", beyond="", role="guide")
+                      face=face, dim="", beyond="", near="", role="guide")
         return [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
                      point=Pts((fe.centre,)), part=self.say(part), face=face,
                      role="construction")
