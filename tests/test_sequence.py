@@ -2236,3 +2236,23 @@ def test_an_apprentice_reads_the_face_its_novice_constructs_on(examples):
                     assert f"{part}'s {face} face" not in b.text
                     boxed += 1
     assert boxed >= 2
+
+
+def test_a_master_reads_what_a_part_lines_up_with_where_no_anchor_places_it(examples):
+    """A master reads the ratio words, and where a part lines up with a drawn one on an axis
+    no anchor places, or, placed by eye, on any axis (a read-through: the camera's shutter
+    button had no placement front to back, which the novice reads as "Centre it front to
+    back on the grip"; the mixer's column, by eye, said nothing at all)."""
+    t, plan, views = examples["camera"]
+    for view in t.views:
+        nov = views[(view.name, "novice")]
+        mas = views[(view.name, "master")]
+        said = [s for s in nov.steps if s.part == "shutter_button" and s.kind == "primitive"]
+        assert any("Centre it front to back on the grip." in x for s in said for x in s.substeps)
+        button = next(s for s in mas.steps if s.part == "shutter_button" and s.kind == "primitive")
+        assert "its middle (front to back) at half of the grip's depth" in button.text
+    t, plan, views = examples["mixer"]
+    for view in t.views:
+        column = next(s for s in views[(view.name, "master")].steps
+                      if s.part == "column" and s.kind == "primitive")
+        assert "in line with the base's back" in column.text

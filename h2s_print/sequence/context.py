@@ -692,7 +692,10 @@ class _Context(_Repeats, _Ellipses):
         if not cand.anchors:  # free: say what it touches among the parts drawn so far
             near = [q for q in _touching(part, self.chosen, 100.0 * self.tol) if q in drawn]
             near.sort(key=lambda q: -part_size(self.chosen[q].box))
-            where = self.free_specs(self.free_positions(part, drawn))
+            positions = self.free_positions(part, drawn)
+            where = self.free_specs(positions)
+            # a master reads where it lines up too (a read-through: by eye, and nothing said)
+            lined_up = _join([_ratio_words(words, a, self.say(q)) for q, a in positions])
             refs = near + sorted((q for q in drawn if q not in near),
                                  key=lambda q: (-part_size(self.chosen[q].box), q))
             head = _t("headline.free", Part=_cap(name), shape=shape) + note
@@ -705,7 +708,8 @@ class _Context(_Repeats, _Ellipses):
 
             subs = self.lettered(self.sized(head, free, self.floor_size(part, drawn)
                                             + self.size_specs(part, self.loose_axes(cand), refs)))
-            return [_Draft(part, "primitive", False, (), strokes, head, subs)]
+            return [_Draft(part, "primitive", False, (), strokes, head, subs,
+                           _cap(lined_up) + "." if lined_up else "")]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
         flat: list[Spec] = []
         on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)
@@ -748,8 +752,12 @@ class _Context(_Repeats, _Ellipses):
             return [x for x, _ in chosen], _join([words.dim(a) for a in loose if a not in done])
         parents = _join([_the(x) for x in _unique(self.say(self.by_id[a.parent].part)
                                                   for a in cand.anchors)])
+        # what the anchors place, then what the part lines up with on an axis none places
+        # (a master read nothing of the shutter button's "Centre it front to back")
+        unguided = self.free_positions(part, drawn, cand.unguided_axes)
         summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
-                              for a in cand.anchors])) + "."
+                              for a in cand.anchors]
+                             + [_ratio_words(words, a, self.say(q)) for q, a in unguided])) + "."
         if eyeball:
             specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
                                                          True)) for a in cand.anchors]
@@ -886,7 +894,7 @@ class _Context(_Repeats, _Ellipses):
                     line = (carry[-1].start, carry[-1].end)
                 placing.append(spec("centred", (), ("centred",), part=name, line=Pts(line)))
         # an axis with no anchor at all: say what it lines up with, as for a part by eye
-        placing += self.free_specs(self.free_positions(part, drawn, cand.unguided_axes))
+        placing += self.free_specs(unguided)
         # no line constructed (faces and planes of drawn parts only): no "these lines" to name
         there = "" if built else "_there"
 
