@@ -2256,3 +2256,36 @@ def test_a_master_reads_what_a_part_lines_up_with_where_no_anchor_places_it(exam
         column = next(s for s in views[(view.name, "master")].steps
                       if s.part == "column" and s.kind == "primitive")
         assert "in line with the base's back" in column.text
+
+
+def test_a_guides_step_says_every_line_it_draws(examples):
+    """Every new line of a guides step is named by its text: an end of it is lettered on
+    the step's picture (a read-through of stop 27: the mixer's column edge was drawn orange
+    in "Guides for the head (1/2), on the bowl and the column", whose text never said it,
+    and extended in the next step)."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        # the box around a tapered part is said as such ("Draw the box around the bowl"),
+        # its edges unlettered
+        corners = [np.array([[b[i][0], b[j][1], b[k][2]] for i in (0, 1) for j in (0, 1)
+                             for k in (0, 1)]) for c in plan.chosen().values()
+                   for b in [c.box]]
+
+        def on_a_box(g) -> bool:
+            return any(all(np.abs(c - np.asarray(p)).max(axis=1).min() < 1e-6
+                           for p in (g.from3d, g.to3d)) for c in corners)
+
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            for s in vp.steps:
+                if s.kind != "guides":
+                    continue
+                at = [lb.at_mm for lb in s.labels if lb.kind == "point"]
+                for g in s.guides:
+                    if g.status != "new" or g.role == "sheet" or (
+                            "the box around" in s.text and on_a_box(g)):
+                        continue
+                    assert any(math.dist(p, q) <= 0.05 for p in (g.from_mm, g.to_mm)
+                               for q in at), (name, view.name, s.index, g.id, s.text)
+                    checked += 1
+    assert checked > 50

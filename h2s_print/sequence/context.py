@@ -162,6 +162,7 @@ def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
 
 
 #: Citations of the lines an earlier step carried or extended (no line named).
+_EDGE_CITES = ("edge", "edge_two", "edge_for")
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
 
@@ -1079,6 +1080,24 @@ class _Context(_Repeats, _Ellipses):
         if idle:
             groups = [g for g in groups if g not in idle]
             tail = [u for g in idle for u in g] + tail
+        # nor is an edge of a drawn part cited in a guides step that does nothing with it
+        # (the guides step never cites an edge): it goes with the first later step that
+        # names it ("Extend NQ to the head"), else the placing step (the mixer's column edge
+        # was drawn orange in "Guides for the head (1/2), on the bowl and the column", which
+        # never said it, and extended in the next: a read-through of stop 27)
+        def named(u: _Unit, g: Sequence[_Unit]) -> bool:
+            runs = [r.points for v in g if v is not u for x in v.specs for _, val in x.fields
+                    if isinstance(val, (Pts, Many)) for r in line_runs(val)
+                    if len(r.points) == 2]
+            return any(_same_segment(ln.start, ln.end, a, b, self.tol)
+                       for ln in u.lines for a, b in runs)
+
+        for i, g in enumerate(groups):
+            for u in [u for u in g if u.specs and all(x.key in _EDGE_CITES for x in u.specs)
+                      and not named(u, g)]:
+                g.remove(u)
+                next((h for h in groups[i + 1:] if named(u, h)), tail).insert(0, u)
+        groups = [g for g in groups if g]
         return groups + [tail]
 
     def uses_box(self, part: str, around: Sequence[_Line], con: Any) -> bool:
