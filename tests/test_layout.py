@@ -1028,3 +1028,28 @@ def test_an_apprentice_cover_says_to_draw_construction_lines_faintly(examples):
         cover = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name)[0]
         said = " ".join(it.string for it in cover.items if getattr(it, "role", "") == "how")
         assert (line.split()[0] + " " + line.split()[1] in said) == (level == "apprentice")
+
+
+def test_part_names_keep_a_gap_from_other_labels(examples):
+    """A part's short name keeps PART_LABEL_GAP_MM from every other label where the picture
+    has room: the train's "wheel 5" and "wheel 7" sat 0.25 mm apart and read as one."""
+    from h2s_print.layout import lay_out_workbook
+
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            vp = views[(view.name, "apprentice")]
+            for page in lay_out_workbook(t.title, vp, t.paper, view_label=vp.name):
+                texts = [it for it in page.items if isinstance(it, L.Text)
+                         and it.role in ("part_label", "label")]
+                for i, a in enumerate(texts):
+                    if a.role != "part_label":
+                        continue
+                    g = L.PART_LABEL_GAP_MM
+                    ax = a.box_mm
+                    grown = (ax[0] - g, ax[1] - g, ax[2] + g, ax[3] + g)
+                    for b in texts:
+                        if b is not a:
+                            assert not L._boxes_overlap(grown, b.box_mm), (name, a.string, b.string)
+                    checked += 1
+    assert checked > 10
