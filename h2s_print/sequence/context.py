@@ -73,6 +73,7 @@ from .geometry import (
     _moving_axis,
     _on_face,
     _on_line,
+    _on_segment,
     _round,
     _runs_along,
     _same_segment,
@@ -783,6 +784,7 @@ class _Context(_Repeats, _Ellipses):
         # carries that turn where the part's own face will be, a face no anchor places: the
         # turn is judged by eye (both read-throughs: "to Q" where nothing defined Q)
         by_eye_turns: set[tuple[int, int | None]] = set()
+        turns: list[tuple[tuple[int, int | None], Vec3, tuple[_Line, ...]]] = []
         carry_lines: list[_Line] = []
         carried_anchors: list[Any] = []  # the anchors whose lines are carried to the part
         for anchor, ppart, face, con, own, carry in built:
@@ -848,6 +850,22 @@ class _Context(_Repeats, _Ellipses):
                         end = "lo" if face.coord < cand.box[0][n] else "hi"
                         if not any(a.axis == n and a.end == end for a in cand.anchors):
                             by_eye_turns.add((first, turn))
+                        else:
+                            turns.append(((first, turn), carry[0].end, tuple(carry)))
+        # a turn where an anchor places the part's face, but on no line on the paper, is
+        # judged by eye too: nothing drawn shows where to stop (a read-through of stop 27:
+        # "Carry VW toward the left vanishing point to B", B on no line); one on a drawn
+        # part's edge or on a line drawn before or in this step is where that line is crossed
+        if turns:
+            on_paper = ([(ln.start, ln.end) for u in units.values() for ln in u.lines]
+                        + [(s0, s1) for s0, s1, k in self._drawn if k < step]
+                        + [(s0, s1) for other in drawn for s0, s1 in self.scaffold_ends(other)])
+            for key, point, own_legs in turns:
+                if key in by_eye_turns:
+                    continue
+                segs = on_paper + [(c.start, c.end) for c in carry_lines if c not in own_legs]
+                if not any(_on_segment(point, s0, s1, 10.0 * self.tol) for s0, s1 in segs):
+                    by_eye_turns.add(key)
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [self.along_edge(self.drawn_before(x, step), drawn)
                           for x in unit.specs if not _draws_known(x, known, self.tol)]

@@ -341,6 +341,14 @@ def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
     return n > 0.0 and float(np.linalg.norm(np.cross(d, w))) <= tol * n
 
 
+def _on_segment(p: Any, a: Any, b: Any, tol: float) -> bool:
+    """Is the point ``p`` within ``tol`` of the segment ``a``-``b``?"""
+    a_, d = np.asarray(a, dtype=float), np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    w = np.asarray(p, dtype=float) - a_
+    t = float(np.clip(np.dot(w, d) / max(float(np.dot(d, d)), 1e-300), 0.0, 1.0))
+    return float(np.linalg.norm(w - t * d)) <= tol
+
+
 def _runs_along(run: Pts, axis: int) -> bool:
     """Does the line ``run`` (two points) run along model axis ``axis``?"""
     d = np.asarray(run.points[1], dtype=float) - np.asarray(run.points[0], dtype=float)
