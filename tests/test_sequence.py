@@ -2325,3 +2325,25 @@ def test_a_carry_turns_on_a_line_the_paper_shows_or_says_by_eye(examples):
                 drawn += [(st.points_mm[k], st.points_mm[k + 1]) for st in s.strokes
                           for k in range(len(st.points_mm) - 1)]
     assert checked >= 3
+
+
+def test_a_part_no_anchor_places_along_an_axis_is_placed_as_pictured(examples):
+    """Where an axis of a part's box is placed by no anchor and lined up with nothing drawn,
+    the step says to place the box as pictured, where it has room (a read-through of stop
+    27: the roller's ferrule, "its height by eye", said nowhere how high it sits)."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            for s in views[(view.name, "novice")].steps:
+                if s.kind != "primitive" or s.part is None or not chosen[s.part].anchors:
+                    continue
+                if not chosen[s.part].unguided_axes:
+                    assert "as pictured" not in s.text
+                    continue
+                if any(x.startswith(("Centre it ", "Line up its ")) for x in s.substeps):
+                    continue
+                assert "as pictured" in s.text or len(s.text.split()) + 2 > seq_drafts.MAX_STEP_WORDS, (
+                    name, view.name, s.index, s.text)
+                checked += 1
+    assert checked >= 2

@@ -916,6 +916,11 @@ class _Context(_Repeats, _Ellipses):
         placing += self.free_specs(unguided)
         # no line constructed (faces and planes of drawn parts only): no "these lines" to name
         there = "" if built else "_there"
+        # an axis no anchor places and nothing drawn lines it up on: where along it, by the
+        # picture, "as pictured" (a read-through of stop 27: the roller's ferrule, "its height
+        # by eye", said nowhere how high it sits)
+        lined = {a.axis for _, a in unguided}
+        unplaced = "_where" if any(ax not in lined for ax in cand.unguided_axes) else ""
 
         def closing_with(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
             said, dims = by_eye(chosen)
@@ -964,7 +969,14 @@ class _Context(_Repeats, _Ellipses):
         mine = _citations(groups[:-1], step, self.anchor_side) + own
         if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
             mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
-        subs = self.lettered(self.sized(head, lambda chosen: mine + closing_with(chosen), sizes))
+        specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes)
+        if unplaced:  # "as pictured" where the step has room left for it: it never splits a
+            # step (packing counts the closing without it) nor displaces a size sentence
+            pictured = [spec(x.key + unplaced, x.same, x.pair, **dict(x.fields))
+                        if x.key == "place_by_eye" + there else x for x in specs]
+            if self.step_words(pictured, head) <= MAX_STEP_WORDS:
+                specs = pictured
+        subs = self.lettered(specs)
         self.record(last, here, described)
         # the box is drawn on the carried lines: carried in a guides step, they stay (the
         # read-through found them erased before the step that uses them)
