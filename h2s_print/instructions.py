@@ -101,19 +101,27 @@ def unique_specs(specs: Sequence[Spec], plural: Callable[[str], str] = lambda k:
                  ) -> list[Spec]:
     """``specs`` without repeats, twins said together.
 
-    A spec equal to an earlier one (same ``same``, or the same key and fields) is dropped.  A
-    spec with the same ``pair`` (and key) as an earlier one is merged into it: fields that
-    differ become a :class:`Many` of both, and the key becomes ``plural(key)``.
+    A spec equal to an earlier one (same ``same``, or the same key and fields) is dropped (but
+    a result line's fields, ``role`` ``guide``, replace a construction line's).  A spec with
+    the same ``pair`` (and key) as an earlier one is merged into it: fields that differ
+    become a :class:`Many` of both, and the key becomes ``plural(key)``.
     """
     out: list[Spec] = []
-    seen: set = set()
+    seen: dict[tuple, int] = {}  # key -> its index in ``out``
     paired: dict[tuple, int] = {}
+    merged: set[int] = set()  # indices of twins said together
     for s in specs:
         key = ("same",) + s.same if s.same else ("spec", s.key, s.fields)
         if key in seen:
+            # the same line drawn as a construction's intermediate and as another's result:
+            # said as the result (an apprentice, who sees results only, reads it)
+            k = seen[key]
+            if (dict(s.fields).get("role") == "guide" and out[k].key == s.key and k not in merged
+                    and dict(out[k].fields).get("role") == "construction"):
+                out[k] = Spec(s.key, s.fields, out[k].same, out[k].pair)
             continue
-        seen.add(key)
         twin = paired.get((s.key,) + s.pair) if s.pair else None
+        seen[key] = len(out) if twin is None else twin
         if twin is None:
             if s.pair:
                 paired[(s.key,) + s.pair] = len(out)
@@ -128,6 +136,7 @@ def unique_specs(specs: Sequence[Spec], plural: Callable[[str], str] = lambda k:
                 value = Many(line_runs(value) + line_runs(other))
             fields.append((name, value))
         out[twin] = Spec(plural(first.key), tuple(fields), first.same, ())
+        merged.add(twin)
     return out
 
 
@@ -290,6 +299,14 @@ DRAWING_KEYS = frozenset({"through", "from", "cross", "through_along", "from_alo
                           "cross_along"})
 
 
+def brief_fields(kind: str, parent: str, face: str, dim: str = "", beyond: str = "",
+                 near: str = "") -> dict[str, str]:
+    """The fields a sub-step carries for :func:`brief_specs` (``role`` aside): ``kind`` a
+    key of :data:`BRIEFS`'s values, ``centre`` or ``centre_plate``; the rest as
+    :func:`construction_specs` says."""
+    return dict(brief=kind, parent=parent, face=face, dim=dim, beyond=beyond, near=near)
+
+
 def construction_specs(con: Construction, parent: str, face: str,
                        vp: Callable[..., str], tol: float, dim: str = "",
                        ends: tuple[str, str] = ("", "")) -> list[Spec]:
@@ -321,7 +338,7 @@ def construction_specs(con: Construction, parent: str, face: str,
     at = dict(con.points)
     # a construction line through the face's centre halves it: said so to an apprentice
     # where a later step uses the line as a guide of its own (_Context.promoted)
-    halves = dict(brief="half", parent=parent, face=face, dim=dim, beyond="", near="")
+    halves = brief_fields("half", parent, face, dim)
     face_id = (points_key(con.face.corners, tol), con.axis)
     s_axis = con.axis
     t_axis = con.result.axis if con.result.axis is not None else s_axis
@@ -380,12 +397,15 @@ def construction_specs(con: Construction, parent: str, face: str,
         elif ln.key == "division":
             through = last if last is not None else a
             key = "from" if through in (a, b) else "through"
-            twin = ("result", face_id) if ln.role == "guide" and through in ("Q1", "Q3", "I1", "I2") else ()
+            # twins: both quarter lines, or both third lines, of one face (never a quarter
+            # with a third: an apprentice reads them by the construction's name)
+            twin = (("result", face_id, BRIEFS[con.ratio])
+                    if ln.role == "guide" and through in ("Q1", "Q3", "I1", "I2") else ())
             # a line drawn from a point runs one way: toward its vanishing point or away
             way = (at[through], at[b if through == a else a]) if key == "from" else ()
-            brief = (dict(brief=BRIEFS[con.ratio], parent=parent, face=face, dim=dim,
-                          beyond=ends[1] if con.ratio > 1 else ends[0],
-                          near=ends[0] if con.ratio < Fraction(1, 2) else ends[1])
+            brief = (brief_fields(BRIEFS[con.ratio], parent, face, dim,
+                                  beyond=ends[1] if con.ratio > 1 else ends[0],
+                                  near=ends[0] if con.ratio < Fraction(1, 2) else ends[1])
                      if ln.role == "guide" and con.ratio in BRIEFS
                      else halves if through == "O" else {})
             out.append(spec(key, ("line", points_key((at[a], at[b]), tol)), twin,

@@ -826,8 +826,9 @@ def _drawing(view: _View, plan: ViewPlan, i: int) -> list[Item]:
 #: Letters on a step's picture: size (pt), dot radius (mm), distances from the dot tried (mm).
 LABEL_PT = 7.5
 LABEL_DOT_MM = 0.45
-#: A part's short name keeps this far from every other label (mm): two names 0.25 mm apart
-#: read as one ("wheel 5wheel 7" on the train's wheel ellipses, a read-through of stop 27).
+#: A part's short name keeps this far from every other label (mm) where a place on the
+#: near rings allows: two names 0.25 mm apart read as one ("wheel 5wheel 7" on the train's
+#: wheel ellipses, a read-through of stop 27).
 PART_LABEL_GAP_MM = 1.2
 LABEL_RADII_MM = (1.0, 1.8, 2.8, 4.0, 5.5, 7.5)
 #: Further rings, tried only for a label that finds no room on the rings above (a crowded
@@ -929,6 +930,7 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
                          for lb, (dx, dy) in zip(labels, dots)]
     out: list[Item] = []
     pad = 0.25
+    names: set[int] = set()  # indices in ``taken`` of parts' names placed
     for k, (lb, (dx, dy)) in enumerate(zip(labels, dots)):
         part = lb.kind == "part"  # a part's short name: centred on the part, no dot
         if not part:
@@ -937,53 +939,56 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
         cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
         best: tuple[tuple, Text] | None = None
         rings = ((0.0,) if part else ()) + LABEL_RADII_MM + LABEL_RADII_FAR_MM
-        # a part's name keeps its gap from other labels where the picture has room
-        for g in ((PART_LABEL_GAP_MM, 0.0) if part else (0.0,)):
-            if best is not None:
-                break
-            for ri, r in enumerate(rings):
-                if best is not None and r in LABEL_RADII_FAR_MM:
-                    break  # the far rings only when nothing nearer is free
-                free: list[tuple[int, float, float, Box2, bool]] = []
-                for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
-                    norm = math.hypot(ux, uy) or 1.0
-                    cx, cy = dx + r * ux / norm, dy + r * uy / norm
-                    # the label's box touches (cx, cy) on the side facing the dot
-                    bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
-                    by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
-                    box = (bx0 - pad, by0 - pad, bx0 + w + pad, by0 + cap + desc + pad)
-                    if box[0] < x0 or box[1] < y0 or box[2] > x1 or box[3] > y1:
-                        continue
-                    if any(_boxes_overlap((box[0] - g, box[1] - g, box[2] + g, box[3] + g), t)
-                           for j, t in enumerate(taken) if j != k):
-                        continue
-                    # a label must read as its own dot's: nearer to it than to any other dot; then
-                    # few lines across it, then near its dot (a line crossed costs a ring)
-                    mx, my = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
-                    own = math.hypot(mx - dx, my - dy)
-                    ambiguous = any(math.hypot(mx - ox, my - oy) < own
-                                    for j, (ox, oy) in enumerate(dots)
-                                    if j != k and labels[j].kind == "point")
-                    free.append((di, bx0, by0, box, ambiguous))
-                crossed = _crossings_many(segs, [f[3] for f in free])
-                if len(new):  # the box grown by the thick line's half width: touching counts
-                    grow = STYLES["new"].width_mm / 2 + pad
-                    crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
-                        new, [(b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow)
-                              for b in (f[3] for f in free)])
-                for (di, bx0, by0, _, ambiguous), n in zip(free, crossed.tolist()):
-                    score = (ambiguous, n + ri, di)
-                    if best is None or score < best[0]:
-                        best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
-                                            "start", "blue" if part else "black",
-                                            "part_label" if part else "label"))
-                if best is not None and not best[0][0] and best[0][1] <= ri:
-                    break  # nothing further out can score better
+        for ri, r in enumerate(rings):
+            if best is not None and r in LABEL_RADII_FAR_MM:
+                break  # the far rings only when nothing nearer is free
+            free: list[tuple[int, float, float, Box2, bool, bool]] = []
+            for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
+                norm = math.hypot(ux, uy) or 1.0
+                cx, cy = dx + r * ux / norm, dy + r * uy / norm
+                # the label's box touches (cx, cy) on the side facing the dot
+                bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
+                by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
+                box = (bx0 - pad, by0 - pad, bx0 + w + pad, by0 + cap + desc + pad)
+                if box[0] < x0 or box[1] < y0 or box[2] > x1 or box[3] > y1:
+                    continue
+                if any(_boxes_overlap(box, t) for j, t in enumerate(taken) if j != k):
+                    continue
+                # a part's name closer than PART_LABEL_GAP_MM to another label (or a label to
+                # a part's name) only where no place on the near rings keeps the gap
+                g = PART_LABEL_GAP_MM
+                grown = (box[0] - g, box[1] - g, box[2] + g, box[3] + g)
+                crowded = any(_boxes_overlap(grown, t) for j, t in enumerate(taken)
+                              if j != k and (part or j in names))
+                # a label must read as its own dot's: nearer to it than to any other dot; then
+                # few lines across it, then near its dot (a line crossed costs a ring)
+                mx, my = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
+                own = math.hypot(mx - dx, my - dy)
+                ambiguous = any(math.hypot(mx - ox, my - oy) < own
+                                for j, (ox, oy) in enumerate(dots)
+                                if j != k and labels[j].kind == "point")
+                free.append((di, bx0, by0, box, ambiguous, crowded))
+            crossed = _crossings_many(segs, [f[3] for f in free])
+            if len(new):  # the box grown by the thick line's half width: touching counts
+                grow = STYLES["new"].width_mm / 2 + pad
+                crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
+                    new, [(b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow)
+                          for b in (f[3] for f in free)])
+            for (di, bx0, by0, _, ambiguous, crowded), n in zip(free, crossed.tolist()):
+                score = (ambiguous, crowded, n + ri, di)
+                if best is None or score < best[0]:
+                    best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
+                                        "start", "blue" if part else "black",
+                                        "part_label" if part else "label"))
+            if best is not None and not best[0][0] and not best[0][1] and best[0][2] <= ri:
+                break  # nothing further out can score better
         if best is None:
             raise RenderError(f"no room on the picture for the label {lb.name!r}")
         text = best[1]
         out.append(text)
         b = text.box_mm
+        if part:
+            names.add(len(taken))
         taken.append((b[0] - pad, b[1] - pad, b[2] + pad, b[3] + pad))
     return out
 

@@ -2159,13 +2159,6 @@ def test_a_part_traced_only_is_not_named(examples):
             assert ctx.say(p) not in steps[0].headline.lower(), (view.name, p, steps[0].headline)
 
 
-def _on_segment(p, a, b, tol):
-    p, a, b = (np.asarray(x, dtype=float) for x in (p, a, b))
-    d = b - a
-    t = float(np.clip(np.dot(p - a, d) / max(float(np.dot(d, d)), 1e-12), 0.0, 1.0))
-    return float(np.linalg.norm(a + t * d - p)) <= tol
-
-
 def _apprentice_views(examples, shared_models):
     """(name, view, apprentice ViewPlan) of the examples and the benchmark's public models."""
     from conftest import CONFIGS

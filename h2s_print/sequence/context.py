@@ -56,6 +56,7 @@ from .drafts import (
     _draws_known,
     _first_lines,
     _first_specs,
+    _names_lines_of,
     _sheet_guides,
     _touch,
     _Unit,
@@ -162,8 +163,9 @@ def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
     return start, until
 
 
-#: Citations of the lines an earlier step carried or extended (no line named).
+#: Citations of an edge of a drawn part.
 _EDGE_CITES = ("edge", "edge_two", "edge_for")
+#: Citations of the lines an earlier step carried or extended (no line named).
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
 
@@ -443,11 +445,21 @@ class _Context(_Repeats, _Ellipses):
         (:func:`~h2s_print.instructions.brief_specs`)."""
         for n in range(len(sizes), 0, -1):
             specs = build(sizes[:n])
-            if max(self.step_words(specs, headline),
-                   self.step_words(brief_specs(specs, self.brief_where), headline)
-                   ) <= MAX_STEP_WORDS:
+            if self.fits_levels(specs, headline):
                 return specs
         return build([])
+
+    def fits_levels(self, specs: Sequence[Spec], headline: str) -> bool:
+        """Does a step of these sub-steps keep within :data:`MAX_STEP_WORDS` at novice and at
+        apprentice (:func:`~h2s_print.instructions.brief_specs`)?"""
+        return max(self.step_words(specs, headline),
+                   self.step_words(brief_specs(specs, self.brief_where), headline)
+                   ) <= MAX_STEP_WORDS
+
+    def lined_up(self, positions: Sequence[tuple[str, Any]]) -> list[str]:
+        """:meth:`free_positions` in a master's ratio words ("its back in line with the
+        base's back")."""
+        return [_ratio_words(self.words, a, self.say(q)) for q, a in positions]
 
     def parents_of(self, part: str) -> set[str]:
         """The parts ``part``'s selected candidate hangs off."""
@@ -620,7 +632,7 @@ class _Context(_Repeats, _Ellipses):
                 if any(_same_segment(a, b, r.points[0], r.points[1], self.tol)
                        for r in line_runs(cf["line"]) if len(r.points) == 2):
                     out[j] = (spec("centred_edge", s.same, s.pair, **f)
-                              if c.key in ("edge", "edge_two", "edge_for")
+                              if c.key in _EDGE_CITES
                               else spec("centred_reuse", s.same, s.pair, step=cf["step"], **f))
                     break
             else:
@@ -697,7 +709,7 @@ class _Context(_Repeats, _Ellipses):
             positions = self.free_positions(part, drawn)
             where = self.free_specs(positions)
             # a master reads where it lines up too (a read-through: by eye, and nothing said)
-            lined_up = _join([_ratio_words(words, a, self.say(q)) for q, a in positions])
+            lined_up = _join(self.lined_up(positions))
             refs = near + sorted((q for q in drawn if q not in near),
                                  key=lambda q: (-part_size(self.chosen[q].box), q))
             head = _t("headline.free", Part=_cap(name), shape=shape) + note
@@ -759,7 +771,7 @@ class _Context(_Repeats, _Ellipses):
         unguided = self.free_positions(part, drawn, cand.unguided_axes)
         summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
                               for a in cand.anchors]
-                             + [_ratio_words(words, a, self.say(q)) for q, a in unguided])) + "."
+                             + self.lined_up(unguided))) + "."
         if eyeball:
             specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
                                                          True)) for a in cand.anchors]
@@ -855,16 +867,19 @@ class _Context(_Repeats, _Ellipses):
         # a turn where an anchor places the part's face, but on no line on the paper, is
         # judged by eye too: nothing drawn shows where to stop (a read-through of stop 27:
         # "Carry VW toward the left vanishing point to B", B on no line); one on a drawn
-        # part's edge or on a line drawn before or in this step is where that line is crossed
-        if turns:
-            on_paper = ([(ln.start, ln.end) for u in units.values() for ln in u.lines]
-                        + [(s0, s1) for s0, s1, k in self._drawn if k < step]
+        # part's edge, a guide of this part's constructions or another carry's leg is where
+        # that line is crossed
+        if turns:  # (lines every level with guides shows: not construction lines)
+            on_paper = ([(ln.start, ln.end) for u in units.values() for ln in u.lines
+                         if ln.role != "construction"]
                         + [(s0, s1) for other in drawn for s0, s1 in self.scaffold_ends(other)])
-            for key, point, own_legs in turns:
+            for key, point, _ in turns:
                 if key in by_eye_turns:
                     continue
-                segs = on_paper + [(c.start, c.end) for c in carry_lines if c not in own_legs]
-                if not any(_on_segment(point, s0, s1, 10.0 * self.tol) for s0, s1 in segs):
+                legs_elsewhere = [(c.start, c.end) for k2, _, legs2 in turns if k2 != key
+                                  for c in legs2]
+                if not any(_on_segment(point, s0, s1, 10.0 * self.tol)
+                           for s0, s1 in on_paper + legs_elsewhere):
                     by_eye_turns.add(key)
         for unit in units.values():  # a line reused from an earlier step is not drawn again
             unit.specs = [self.along_edge(self.drawn_before(x, step), drawn)
@@ -949,16 +964,22 @@ class _Context(_Repeats, _Ellipses):
         for k, group in enumerate(groups[:-1]):
             here = step + k
             # an edge of a drawn part is cited where it is used (the placing step), never in
-            # a guides step, which would have nothing to do with it ("Use the edge HJ.")
-            subs = self.lettered([x for u in group for x in u.specs
+            # a guides step, which would have nothing to do with it ("Use the edge HJ."); a
+            # guides step draws it only where another of its sentences names it ("Extend NQ
+            # to the head"): else neither its line nor its part is on the guides step (the
+            # mixer's column edge was drawn orange in "Guides for the head (1/2), on the
+            # bowl and the column", which never said it: a read-through of stop 27)
+            shown = [u for u in group if not (all(x.key in _EDGE_CITES for x in u.specs)
+                                              and not _names_lines_of(u, group, self.tol))]
+            subs = self.lettered([x for u in shown for x in u.specs
                                   if not (x.same and x.same in said) and x.key != "edge"])
             said.update(x.same for x in subs if x.same)
             self.record(group, here, described)
             gsummary = _t("substep.guides_for", words=_join(_unique(
                 _ratio_words(words, a, self.say(self.by_id[a.parent].part))
-                for u in group for a in u.anchors)))
-            drafts.append(_Draft(part, "guides", False, tuple(ln for u in group for ln in u.lines),
-                                 (), guides_head(group, k + 1, len(groups) - 1), subs,
+                for u in shown for a in u.anchors)))
+            drafts.append(_Draft(part, "guides", False, tuple(ln for u in shown for ln in u.lines),
+                                 (), guides_head(shown, k + 1, len(groups) - 1), subs,
                                  gsummary))
         last = groups[-1]
         here = step + len(groups) - 1
@@ -974,7 +995,7 @@ class _Context(_Repeats, _Ellipses):
             # step (packing counts the closing without it) nor displaces a size sentence
             pictured = [spec(x.key + unplaced, x.same, x.pair, **dict(x.fields))
                         if x.key == "place_by_eye" + there else x for x in specs]
-            if self.step_words(pictured, head) <= MAX_STEP_WORDS:
+            if self.fits_levels(pictured, head):
                 specs = pictured
         subs = self.lettered(specs)
         self.record(last, here, described)
@@ -1110,24 +1131,6 @@ class _Context(_Repeats, _Ellipses):
         if idle:
             groups = [g for g in groups if g not in idle]
             tail = [u for g in idle for u in g] + tail
-        # nor is an edge of a drawn part cited in a guides step that does nothing with it
-        # (the guides step never cites an edge): it goes with the first later step that
-        # names it ("Extend NQ to the head"), else the placing step (the mixer's column edge
-        # was drawn orange in "Guides for the head (1/2), on the bowl and the column", which
-        # never said it, and extended in the next: a read-through of stop 27)
-        def named(u: _Unit, g: Sequence[_Unit]) -> bool:
-            runs = [r.points for v in g if v is not u for x in v.specs for _, val in x.fields
-                    if isinstance(val, (Pts, Many)) for r in line_runs(val)
-                    if len(r.points) == 2]
-            return any(_same_segment(ln.start, ln.end, a, b, self.tol)
-                       for ln in u.lines for a, b in runs)
-
-        for i, g in enumerate(groups):
-            for u in [u for u in g if u.specs and all(x.key in _EDGE_CITES for x in u.specs)
-                      and not named(u, g)]:
-                g.remove(u)
-                next((h for h in groups[i + 1:] if named(u, h)), tail).insert(0, u)
-        groups = [g for g in groups if g]
         return groups + [tail]
 
     def uses_box(self, part: str, around: Sequence[_Line], con: Any) -> bool:

@@ -8,7 +8,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from ..constructions import Face, ellipse_on_face
-from ..instructions import Many, Pts, Spec, spec
+from ..instructions import Many, Pts, Spec, brief_fields, spec
 from ..names import natural_key
 from ..occlude import Solid, box_solid, cylinder_solid, hidden, polyhedron, runs
 from ..types import Box, Part, Stroke
@@ -192,8 +192,8 @@ class _Ellipses:
         # (an apprentice, whose picture shows no diagonals, reads "Through the centre of
         # the lens's front face, draw ..." for the lines through it: brief_specs)
         face = self.words.face(fe.face.normal, fe.face.end)
-        centre = dict(brief="centre" if solid else "centre_plate", parent=self.say(part),
-                      face=face, dim="", beyond="", near="", role="guide")
+        centre = dict(brief_fields("centre" if solid else "centre_plate", self.say(part), face),
+                      role="guide")
         return [spec("ellipse_diagonals", first=Pts((a, c)), second=Pts((b, d)),
                      point=Pts((fe.centre,)), part=self.say(part), face=face,
                      role="construction")
