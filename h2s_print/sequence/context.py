@@ -797,6 +797,8 @@ class _Context(_Repeats, _Ellipses):
         # turn is judged by eye (both read-throughs: "to Q" where nothing defined Q)
         by_eye_turns: set[tuple[int, int | None]] = set()
         turns: list[tuple[tuple[int, int | None], Vec3, tuple[_Line, ...]]] = []
+        # per carry (axis, turn): its lines and the anchors they place
+        by_group: dict[tuple[int, int | None], tuple[list[_Line], list[Any]]] = {}
         carry_lines: list[_Line] = []
         carried_anchors: list[Any] = []  # the anchors whose lines are carried to the part
         for anchor, ppart, face, con, own, carry in built:
@@ -850,6 +852,8 @@ class _Context(_Repeats, _Ellipses):
                 axes = [_moving_axis(c) for c in carry]
                 first = axes[0]
                 turn = next((x for x in axes[1:] if x != first), None)  # around a corner
+                by_group.setdefault((first, turn), ([], []))[0].extend(carry)
+                by_group[first, turn][1].append(anchor)
                 runs = carried.setdefault((first, turn), [])
                 # the first leg, and the first line along the turn
                 legs.setdefault((first, turn), ((carry[0].start, carry[0].end),) + tuple(
@@ -911,11 +915,22 @@ class _Context(_Repeats, _Ellipses):
                         for axis, turn, runs in carries]
         if extended:
             carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))
-        carry_unit: _Unit | None = None
+        carry_units: list[_Unit] = []
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
-            carry_unit = units[("carry",)] = _Unit(self.by_id[cand.anchors[0].parent].part,
-                                                   carrying, carry_lines,
-                                                   carried_for=carried_anchors)
+            owner = self.by_id[cand.anchors[0].parent].part
+            carry_units = [_Unit(owner, carrying, carry_lines, carried_for=carried_anchors)]
+            # a carry sentence each, each a unit, when all of them are too long for one
+            # step (a guides step over the word limit cannot be cut: the train's chimney
+            # carried three lines around corners in 71 words)
+            if (len(carrying) > 1 and not extended and len(carries) == len(carrying)
+                    and self.step_words(carrying, _t("headline.guides_of", part=name,
+                                                     the_parents=_the(owner), n=9, total=9))
+                    > MAX_STEP_WORDS):
+                carry_units = [_Unit(owner, [x], by_group[axis, turn][0],
+                                     carried_for=by_group[axis, turn][1])
+                               for x, (axis, turn, _) in zip(carrying, carries)]
+            for k, u in enumerate(carry_units):
+                units[("carry", k)] = u
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
             if anchor.end == "mid":                       # straddles a line
@@ -1002,7 +1017,7 @@ class _Context(_Repeats, _Ellipses):
         # the box is drawn on the carried lines: carried in a guides step, they stay (the
         # read-through found them erased before the step that uses them)
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
-                 + [ln for u in before if u is carry_unit for ln in u.lines]
+                 + [ln for u in before if any(u is c for c in carry_units) for ln in u.lines]
                  + [ln for u in last for ln in u.lines])
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
                              summary))
