@@ -542,36 +542,66 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 else:
                     continue
                 break
-        tip, edge, direction = exit_.point_mm, exit_.side, exit_.direction_mm
-        label = (_t("sheet.vp_far", vp=name, distance=f"{exit_.distance_mm:.0f}") if finite
-                 else _t("sheet.vp_infinite", vp=name))
-        items += _arrow(tip, direction, ARROW_MM, "black", 0.35, "vp_arrow")
-        tw = text_width_mm(label, 8, "Helvetica-Bold")
-        n = math.hypot(*direction)
-        ux, uy = direction[0] / n, direction[1] / n
-        # Label just inside the frame next to the arrow's shaft.
-        # Side edges: the label block goes above the tip when the shaft comes from below,
-        # else below it, so neither the shaft nor a horizon through the tip crosses the text.
-        ly = tip[1] + 5.5 if uy > 0 else tip[1] - 5.0
-        ly = min(max(ly, inner[1] + 5.0), inner[3] - 3.0)
-        if edge == "right":
-            anchor, lx = "end", tip[0] - 3.0
-        elif edge == "left":
-            anchor, lx = "start", tip[0] + 3.0
-        else:
-            # Top/bottom edges: the block sits beside the shaft, toward the sheet's middle,
-            # within the shaft's 12 mm from the edge.
-            tail = (tip[0] - ux * 12.0, tip[1] - uy * 12.0)
-            block = max(tw, text_width_mm(detail, 7))
-            if tip[0] < (frame[0] + frame[2]) / 2:
-                anchor, lx = "start", min(max(tip[0], tail[0]) + 3.0, inner[2] - block)
+
+        def labelled(ex: Any, detail: str = detail, name: str = name, finite: bool = finite
+                     ) -> tuple[list[Polyline], list[Text], bool]:
+            """The arrow at exit ``ex``, its label block, and whether it sits on a side edge."""
+            tip, edge, direction = ex.point_mm, ex.side, ex.direction_mm
+            label = (_t("sheet.vp_far", vp=name, distance=f"{ex.distance_mm:.0f}") if finite
+                     else _t("sheet.vp_infinite", vp=name))
+            arrow = _arrow(tip, direction, ARROW_MM, "black", 0.35, "vp_arrow")
+            tw = text_width_mm(label, 8, "Helvetica-Bold")
+            n = math.hypot(*direction)
+            ux, uy = direction[0] / n, direction[1] / n
+            # Label just inside the frame next to the arrow's shaft.
+            # Side edges: the label block goes above the tip when the shaft comes from below,
+            # else below it, so neither the shaft nor a horizon through the tip crosses the text.
+            ly = tip[1] + 5.5 if uy > 0 else tip[1] - 5.0
+            ly = min(max(ly, inner[1] + 5.0), inner[3] - 3.0)
+            if edge == "right":
+                anchor, lx = "end", tip[0] - 3.0
+            elif edge == "left":
+                anchor, lx = "start", tip[0] + 3.0
             else:
-                anchor, lx = "end", max(min(tip[0], tail[0]) - 3.0, inner[0] + block)
-            ly = tip[1] - 4.5 if edge == "top" else tip[1] + 8.5
-        block = [Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label")]
-        if detail:
-            block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
-        vertical = edge in ("left", "right")
+                # Top/bottom edges: the block sits beside the shaft, toward the sheet's middle,
+                # within the shaft's 12 mm from the edge.
+                tail = (tip[0] - ux * 12.0, tip[1] - uy * 12.0)
+                block = max(tw, text_width_mm(detail, 7))
+                if tip[0] < (frame[0] + frame[2]) / 2:
+                    anchor, lx = "start", min(max(tip[0], tail[0]) + 3.0, inner[2] - block)
+                else:
+                    anchor, lx = "end", max(min(tip[0], tail[0]) - 3.0, inner[0] + block)
+                ly = tip[1] - 4.5 if edge == "top" else tip[1] + 8.5
+            block = [Text(lx, ly, label, 8, "Helvetica-Bold", anchor, "black", "vp_label")]
+            if detail:
+                block.append(Text(lx, ly - 3.6, detail, 7, "Helvetica", anchor, "black", "vp_detail"))
+            vertical = edge in ("left", "right")
+            return arrow, block, vertical
+
+        # an arrow toward parallels may point either way: the way whose label finds room off
+        # the drawing, and whose arrow is not inside it, first (the roller's "vertical edges"
+        # label sat where its front face is drawn, a read-through of stop 27)
+        exits = [exit_]
+        if vp.at_infinity:
+            flipped = edge_exit(plan.camera, ways[1], inset_mm=m + 2.0, origin_mm=origin)
+            if flipped is not None and not (len(ground) and _shaft_near(flipped, ground,
+                                                                         ARROW_CLEAR_MM)):
+                exits.append(flipped)
+        chosen = None
+        for ex in exits:
+            arrow, block, vertical = labelled(ex)
+            ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
+            if len(hull) >= 3 and _in_convex_all(hull, ends).any():
+                continue
+            placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, area, hull)
+            if placed is not None:
+                chosen = arrow + placed
+                break
+        if chosen is not None:
+            items += chosen
+            continue
+        arrow, block, vertical = labelled(exits[0])
+        items += arrow
         placed = _clear_of_texts(block, items, frame, vertical, area, hull)
         if placed is None:  # no room off the drawing: at least off its lines, and never in
             # the printed first box's footprint, where the first box is drawn (the desk's)

@@ -1055,3 +1055,21 @@ def test_part_names_keep_a_gap_from_other_labels(examples):
                             assert not L._boxes_overlap(grown, b.box_mm), (name, a.string, b.string)
                     checked += 1
     assert checked > 10
+
+
+def test_an_arrow_toward_parallels_points_the_way_its_label_finds_room(examples):
+    """Parallels run both ways: the label of the vertical edges (a point at infinity) and
+    its arrow go where the finished drawing is not, the way the arrow may point either
+    (the roller's "vertical edges: keep them parallel" sat where its front face is drawn,
+    above it, while the bottom of the sheet was empty: a read-through of stop 27)."""
+    t, plan, views = examples["roller"]
+    vp = views[(t.views[0].name, "novice")]
+    lines = [s.points_mm for st in vp.steps for s in st.strokes]
+    hull = S._hull([q for p in lines for q in p])
+    sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
+    label, = [it for it in sheet.items if isinstance(it, L.Text) and it.role == "vp_label"
+              and "parallel" in it.string]
+    b = label.box_mm
+    assert not S._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2))
+    for arrow in (it for it in sheet.items if isinstance(it, L.Polyline) and it.role == "vp_arrow"):
+        assert not S._in_convex_all(hull, np.asarray(arrow.points_mm, dtype=float)).any()
