@@ -2340,3 +2340,26 @@ def test_a_part_no_anchor_places_along_an_axis_is_placed_as_pictured(examples):
                     name, view.name, s.index, s.text)
                 checked += 1
     assert checked >= 2
+
+
+def test_an_apprentice_reads_the_novices_sentences_where_nothing_is_constructed(examples):
+    """Where a step constructs nothing (no diagonal, no line through a crossing), the
+    apprentice reads the novice's very sentences, but for the letters, which are given
+    anew over the apprentice's steps."""
+    construct = re.compile(r"diagonals|^Through |^From [A-Z]|Draw a line from|crosses|"
+                           r"^Extend [A-Z']+ beyond|^Draw [A-Z']+;")
+
+    def unlettered(x: str) -> str:
+        return re.sub(r"(?<![A-Za-z'])[A-Z][A-Z']*(?![a-z])", "X", x)
+
+    same = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            nov, app = views[(view.name, "novice")], views[(view.name, "apprentice")]
+            for a, b in zip(nov.steps, app.steps):
+                if any(construct.search(x) for x in a.substeps):
+                    continue
+                assert [unlettered(x) for x in a.substeps] == [unlettered(x) for x in b.substeps], (
+                    name, view.name, a.index)
+                same += 1
+    assert same > 50
