@@ -1270,7 +1270,7 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
     how_key = "cover.how_basic" if plan.level == "basic" else "cover.how"
     lines = list(how if how is not None else templates.lookup("pages", how_key))
     if how is None and plan.level == "apprentice":  # its pictures show no construction lines
-        lines.insert(3, _t("cover.how_apprentice"))
+        lines.insert(3, _t("cover.how_apprentice"))  # after "Orange shows what to draw ..."
     for line in lines:
         para, top = _paragraph(x0 + 4, top, text_w - 4, plain_text(line), 9.5, role="how")
         items.append(Circle(x0 + 1.2, para[0].y_mm + 1.1, 0.6, None, 0.0, "black", "bullet"))

@@ -2219,8 +2219,8 @@ def test_an_apprentice_is_told_only_of_lines_its_picture_draws(examples, shared_
 def test_an_apprentice_reads_the_face_its_novice_constructs_on(examples):
     """A construction on the box around a tapered part is said so to an apprentice too
     (stop 27's read-through: "Halve the prism's top face", where U and V lay on the box
-    around the prism, outside the prism's smaller top), and the cover says to draw the
-    construction lines the pictures leave out faintly."""
+    around the prism, outside the prism's smaller top).  (The cover's line for apprentices
+    is tests/test_layout.py's.)"""
     boxed = 0
     for name, (t, plan, views) in examples.items():
         for view in t.views:
