@@ -256,6 +256,22 @@ class _Ellipses:
             out.append(d)
         return [self.round_sides(d, lead) for d in out]
 
+    def sides_show(self, part: str) -> bool:
+        """Does the finished drawing show a side line of cylinder ``part``: visible line
+        along its axis over a third of its length, in all?  (A read-through of stop 27: the pins
+        plate's dowels, sunk in the plate, show their top ellipses only, and "Join the two
+        ellipses ... with two straight lines" drew what the picture hides.)"""
+        prim = self.plan.primitive(part)
+        box = self.chosen[part].box
+        axis = prim.axis
+        length = float(box[1][axis] - box[0][axis])
+        along = 0.0  # visible line running along the axis, in all
+        for st in self.finals(self.adjusted).get(part, ()):
+            d = np.diff(np.asarray(st.points3d, dtype=float).reshape(-1, 3), axis=0)
+            n = np.linalg.norm(d, axis=1)
+            along += float(n[np.abs(d[:, axis]) >= 0.95 * n].sum())
+        return along >= length / 3.0
+
     def round_sides(self, d: _Draft, lead: Mapping[str, str]) -> _Draft:
         """An outline draft with the sentence joining its round parts' ellipses: the two
         lines touching both, which no scaffold line gives (the read-through: "trace" did not
@@ -263,7 +279,7 @@ class _Ellipses:
         before the tracing, and one for its tapered round parts, whose sides follow the
         picture (a read-through: the mixer's bowl curves, "two straight lines" did not)."""
         rounds = [q for q in d.group if _round(self.plan.primitive(q))
-                  and self.plan.primitive(q).type == "cylinder"]
+                  and self.plan.primitive(q).type == "cylinder" and self.sides_show(q)]
         tapers = [q for q in d.group if _round(self.plan.primitive(q))
                   and self.plan.primitive(q).type == "frustum"]
         joins: list[Spec] = []
