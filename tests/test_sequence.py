@@ -2059,11 +2059,16 @@ def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
     pattern = re.compile(r"Carry .*? to ((?:[A-Z]'*(?:, | and )?)+)(" + re.escape(mark)
                          + r")?, then")
     counts = {True: 0, False: 0}
+    anchored_by_eye = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
             continue
         chosen = plan.chosen()
+        drawn: list[tuple] = []  # 3D segments of the strokes of the steps before
         for s in vp.steps:
+            before = list(drawn)
+            drawn += [(st.points3d[k], st.points3d[k + 1]) for st in s.strokes
+                      for k in range(len(st.points3d) - 1)]
             if s.part is None or s.kind not in ("guides", "primitive"):
                 continue
             cand = chosen[s.part]
@@ -2085,8 +2090,12 @@ def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
                     # line on the paper; test_a_carry_turns_on_a_line_the_paper_shows_...)
                     if not ends <= anchored:
                         assert by_eye, (name, vp.name, s.index, x, ends)
+                    elif by_eye:  # by eye though anchored: on no edge drawn before
+                        assert not any(_on_segment(p, a, b, 10 * tol) for a, b in before), (
+                            name, vp.name, s.index, x)
+                        anchored_by_eye += 1
                 counts[by_eye] += 1
-    assert counts[True] and counts[False], counts
+    assert counts[True] and counts[False] and anchored_by_eye, (counts, anchored_by_eye)
 
 
 def test_a_part_that_barely_shows_is_only_traced(examples):
