@@ -588,11 +588,13 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                                                                          ARROW_CLEAR_MM)):
                 exits.append(flipped)
         chosen = None
-        for ex in exits:
+        tried_first = False  # the first way's label tried off the drawing already
+        for i, ex in enumerate(exits):
             arrow, block, vertical = labelled(ex)
             ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
             if len(hull) >= 3 and _in_convex_all(hull, ends).any():
                 continue
+            tried_first = tried_first or i == 0
             placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, area, hull)
             if placed is not None:
                 chosen = arrow + placed
@@ -602,7 +604,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             continue
         arrow, block, vertical = labelled(exits[0])
         items += arrow
-        placed = _clear_of_texts(block, items, frame, vertical, area, hull)
+        placed = (None if tried_first
+                  else _clear_of_texts(block, items, frame, vertical, area, hull))
         if placed is None:  # no room off the drawing: at least off its lines, and never in
             # the printed first box's footprint, where the first box is drawn (the desk's)
             placed = _clear_of_texts(block, items, frame, vertical, shadow, footprint)

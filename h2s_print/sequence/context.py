@@ -924,7 +924,8 @@ class _Context(_Repeats, _Ellipses):
             # carried three lines around corners in 71 words)
             if (len(carrying) > 1 and not extended and len(carries) == len(carrying)
                     and self.step_words(carrying, _t("headline.guides_of", part=name,
-                                                     the_parents=_the(owner), n=9, total=9))
+                                                     the_parents=_the(self.say(owner)),
+                                                     n=9, total=9))
                     > MAX_STEP_WORDS):
                 carry_units = [_Unit(owner, [x], by_group[axis, turn][0],
                                      carried_for=by_group[axis, turn][1])
