@@ -101,6 +101,10 @@ def first_near_edge(plan: ViewPlan) -> tuple[Pt, Pt] | None:
 ARROW_CLEAR_MM = 6.0
 #: The arrow's shaft, mm (``_arrow``'s length in :func:`lay_out_sheet`).
 ARROW_MM = 12.0
+#: Where no arrow from the middle finds its label room off the finished drawing, arrows moved
+#: along the frame's edge are tried, by these multiples of ARROW_SHIFT_MM, nearest first.
+ARROW_SHIFT_MM = 8.0
+ARROW_SHIFTS = tuple(k for j in range(1, 16) for k in (j, -j))
 
 
 def _shaft_near(exit_: Any, segs: np.ndarray, clear: float) -> bool:
@@ -221,11 +225,7 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                 ok[ok] = _crossings_many(arrows, boxes[ok]) == 0
         return ok
 
-    # along the edge first, then also away from it, nearest first (2 mm steps, up to 60 mm)
-    shifts = sorted(((a, c) for a in range(-30, 31) for c in range(-10, 11)),
-                    key=lambda s: (abs(s[0]) + 2 * abs(s[1]), abs(s[1]), s))
-    offsets = np.array([(2.0 * c, 2.0 * a) if vertical else (2.0 * a, 2.0 * c)
-                        for a, c in shifts])
+    offsets = _LABEL_SHIFTS[vertical]
     free = np.ones(len(offsets), dtype=bool)
     if inside is not None and len(inside) >= 3:  # places whose texts' middles are all outside
         middles = np.array([((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
@@ -233,12 +233,27 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
         at = (offsets[:, None, :] + middles[None, :, :]).reshape(-1, 2)
         free = ~_in_convex_all(inside, at).reshape(len(offsets), len(block)).any(axis=1)
     tried = offsets[free]
-    for start in range(0, len(tried), 64):  # nearest first, 64 places at a time
-        fit = np.flatnonzero(clear(tried[start:start + 64]))
+    start = 0
+    for size in (64, 256, len(tried)):  # nearest first, the nearest few places alone first
+        fit = np.flatnonzero(clear(tried[start:start + size]))
         if len(fit):
             dx, dy = tried[start + int(fit[0])].tolist()
             return [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
+        start += size
+        if start >= len(tried):
+            break
     return None
+
+
+def _label_shifts(vertical: bool) -> np.ndarray:
+    """The shifts :func:`_clear_of_texts` tries, nearest first: along the frame's edge first,
+    then also away from it (2 mm steps, up to 60 mm along and 20 mm across)."""
+    shifts = sorted(((a, c) for a in range(-30, 31) for c in range(-10, 11)),
+                    key=lambda s: (abs(s[0]) + 2 * abs(s[1]), abs(s[1]), s))
+    return np.array([(2.0 * c, 2.0 * a) if vertical else (2.0 * a, 2.0 * c) for a, c in shifts])
+
+
+_LABEL_SHIFTS = {v: _label_shifts(v) for v in (False, True)}
 
 
 #: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint (and,
@@ -587,17 +602,39 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             if flipped is not None and not (len(ground) and _shaft_near(flipped, ground,
                                                                          ARROW_CLEAR_MM)):
                 exits.append(flipped)
+        # then, each way, arrows moved along the frame's edge (across the ray; each still
+        # points at its vanishing point): the arrow toward parallels at the sheet's middle lay
+        # in the drawing of any object drawn there top to bottom (the bottle's lid, the oven),
+        # the train's left-VP label in its chimney
+        n = math.hypot(*exit_.direction_mm)
+        across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
+        for k in ARROW_SHIFTS:
+            for way in ways:
+                moved = (origin[0] + ARROW_SHIFT_MM * k * across[0],
+                         origin[1] + ARROW_SHIFT_MM * k * across[1])
+                if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
+                    continue
+                other = edge_exit(plan.camera, way, inset_mm=m + 2.0, origin_mm=moved)
+                if other is not None and not (len(ground) and _shaft_near(other, ground,
+                                                                           ARROW_CLEAR_MM)):
+                    exits.append(other)
         chosen = None
         tried_first = False  # the first way's label tried off the drawing already
-        for i, ex in enumerate(exits):
-            arrow, block, vertical = labelled(ex)
-            ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
-            if len(hull) >= 3 and _in_convex_all(hull, ends).any():
-                continue
-            tried_first = tried_first or i == 0
-            placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, area, hull)
-            if placed is not None:
-                chosen = arrow + placed
+        # the label off the drawing; else off its lines only (the train fills its frame: the
+        # arrow toward its left vanishing point sat in the chimney), the arrow never inside
+        for avoid, inside in ((area, hull), (shadow, footprint)):
+            for i, ex in enumerate(exits):
+                arrow, block, vertical = labelled(ex)
+                ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
+                if len(hull) >= 3 and _in_convex_all(hull, ends).any():
+                    continue
+                tried_first = tried_first or (i == 0 and inside is hull)
+                placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, avoid,
+                                         inside)
+                if placed is not None:
+                    chosen = arrow + placed
+                    break
+            if chosen is not None:
                 break
         if chosen is not None:
             items += chosen

@@ -1073,3 +1073,30 @@ def test_an_arrow_toward_parallels_points_the_way_its_label_finds_room(examples)
     assert not S._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2))
     for arrow in (it for it in sheet.items if isinstance(it, L.Polyline) and it.role == "vp_arrow"):
         assert not S._in_convex_all(hull, np.asarray(arrow.points_mm, dtype=float)).any()
+
+
+def test_no_sheet_arrow_lies_in_the_finished_drawing(examples):
+    """Every arrow toward a vanishing point lies off the finished drawing (its convex outline),
+    moved along the frame's edge where the middle one would not: the arrow toward the vertical
+    edges sat in the camera's, the mixer's and the bottle's drawings (its lid), the train's
+    left one in its chimney (read-throughs).  Labels keep off it where there is room."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            lines = [s.points_mm for st in vp.steps for s in st.strokes]
+            hull = S._hull([q for p in lines for q in p])
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
+            arrows = [it for it in sheet.items
+                      if isinstance(it, L.Polyline) and it.role == "vp_arrow"]
+            for arrow in arrows:
+                pts = np.asarray(arrow.points_mm, dtype=float)
+                assert not S._in_convex_all(hull, pts).any(), (name, view.name)
+                checked += 1
+            if name != "train":  # the train fills its frame
+                for it in sheet.items:
+                    if isinstance(it, L.Text) and it.role in ("vp_label", "vp_detail"):
+                        b = it.box_mm
+                        assert not S._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)), \
+                            (name, view.name, it.string)
+    assert checked >= 8
