@@ -24,6 +24,7 @@ from __future__ import annotations
 import contextlib
 import contextvars
 import functools
+import re
 import string
 from importlib import resources
 from pathlib import Path
@@ -171,6 +172,8 @@ def _same_keys(path: Path, english: Any, other: Any, language: str, key: str = "
         for k in english:
             _same_keys(path, english[k], other[k], language, f"{key}.{k}" if key else str(k))
     elif isinstance(english, list):
+        if key == "orthography" and isinstance(other, list):  # a language may need no rule
+            return
         if not isinstance(other, list) or not other:
             raise H2SError(f"{where}expected a list, as in English")
         if len({type(v) for v in english}) == 1 and isinstance(english[0], dict):
@@ -192,6 +195,8 @@ def _load(name: str, language: str) -> dict[str, Any]:
     path = _path(name, language)
     data = _read(path)
     _validate(name, path, data)
+    if name == "steps":
+        _check_orthography(path, data.get("orthography", []))
     if language != ENGLISH:
         _same_keys(path, _load(name, ENGLISH), data, language)
     return data
@@ -221,7 +226,7 @@ def plural(name: str, key: str, n: int, **fields: Any) -> str:
 
     category = Locale.parse(current_language()).plural_form(n)
     template = forms.get(category, forms["other"])
-    return template.format(n=n, **fields)
+    return spelled(template.format(n=n, **fields))
 
 
 def check_font(spec: fonts.FontSpec | None = None) -> None:
@@ -266,11 +271,34 @@ def the(label: str) -> str:
 
 
 def text(name: str, key: str, **fields: Any) -> str:
-    """Format the template string at ``key`` with ``fields``."""
+    """Format the template string at ``key`` with ``fields``, then spell it by the language's
+    rules (:func:`spelled`)."""
     template = lookup(name, key)
     if not isinstance(template, str):
         raise KeyError(f"templates/{name}.yaml: {key!r} is not a text template")
-    return template.format(**fields)
+    return spelled(template.format(**fields))
+
+
+def spelled(sentence: str) -> str:
+    """``sentence`` with the current language's spelling rules applied (``orthography`` in
+    ``templates/steps.yaml``: regular expression, replacement): English writes a plural
+    name's possessive with the apostrophe alone, "the sides' top face", where the templates'
+    ``{the_parent}'s`` gave "the sides's"."""
+    for pattern, replacement in load("steps").get("orthography", ()):
+        sentence = re.sub(pattern, replacement, sentence)  # re caches the compiled pattern
+    return sentence
+
+
+def _check_orthography(path: Path, rules: Any) -> None:
+    """``orthography`` is a list of [regular expression, replacement] pairs."""
+    for i, rule in enumerate(rules if isinstance(rules, list) else [rules]):
+        try:
+            pattern, replacement = rule
+            re.compile(pattern)
+            re.sub(pattern, replacement, "")
+        except (re.error, TypeError, ValueError) as exc:
+            raise H2SError(f"{path}: orthography[{i}]: expected a regular expression and its "
+                           f"replacement ({exc})") from None
 
 
 check_font.cache_clear = _check_font.cache_clear  # type: ignore[attr-defined]

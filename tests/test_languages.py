@@ -55,12 +55,33 @@ def test_a_complete_translation_is_a_language(folder):
      r"de/pages.yaml: extra: unknown key \(not in the English file\)"),
     (lambda n, t: t.replace("{the_parents}.", "{the_parnts}.") if n == "steps" else t,
      r"de/steps.yaml: headline.anchored: unknown placeholder \{the_parnts\}"),
+    (lambda n, t: t.replace("- [\"(?<=[^s]s)", "- [\"(?<=[^s]s") if n == "steps" else t,
+     r"de/steps.yaml: orthography\[0\]: expected a regular expression"),
 ])
 def test_a_translation_is_checked_key_by_key(folder, edit, message):
     _translate(folder, "de", edit)
     with pytest.raises(H2SError, match=message):
         for name in templates.FIELDS:
             templates.load(name, "de")
+
+
+def test_a_name_ending_in_s_takes_the_apostrophe_alone(shared_models):
+    """English possessives: "the sides' top face" (a read-through found "the sides's"), but
+    "the glass's" and "the body's"; a language without the rule leaves the text alone."""
+    assert templates.spelled("the sides's top, the glass's top, the body's top") == \
+        "the sides' top, the glass's top, the body's top"
+    with templates.using("de"):
+        assert templates.spelled("the sides's top") == "the sides's top"
+    # the pins plate's part "sides", as its steps say it
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "pins_plate.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    vp = seq.sequence_view(plan, t.views[0], "novice", t.paper, t.sequence)
+    texts = " ".join(s.text for s in vp.steps)
+    assert "the sides' top face" in texts and "sides's" not in texts
 
 
 def test_plural_forms_follow_the_languages_rules(folder):
