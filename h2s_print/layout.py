@@ -462,17 +462,23 @@ def _green_corners(frame: Box2, arm: float, style: LineStyle = STYLES["corner"])
     return out
 
 
-def _arrow(tip: Pt, direction: Pt, length: float, colour: str, width: float, role: str) -> list[Polyline]:
-    """A shaft ending at ``tip`` pointing along ``direction`` with a two-stroke head."""
+def _arrow(tip: Pt, direction: Pt, length: float, colour: str, width: float, role: str,
+           *, both: bool = False) -> list[Polyline]:
+    """A shaft ending at ``tip`` pointing along ``direction`` with a two-stroke head (and one
+    at its tail too, pointing back, when ``both``: a direction, not a point)."""
     dx, dy = direction
     n = math.hypot(dx, dy) or 1.0
     dx, dy = dx / n, dy / n
     tail = (tip[0] - dx * length, tip[1] - dy * length)
     head = min(2.5, length / 2)
-    left = (tip[0] - head * (dx * 0.87 - dy * 0.5), tip[1] - head * (dy * 0.87 + dx * 0.5))
-    right = (tip[0] - head * (dx * 0.87 + dy * 0.5), tip[1] - head * (dy * 0.87 - dx * 0.5))
-    return [Polyline((tail, tip), colour, width, (), False, role),
-            Polyline((left, tip, right), colour, width, (), False, role)]
+
+    def barbs(at: Pt, ux: float, uy: float) -> Polyline:
+        left = (at[0] - head * (ux * 0.87 - uy * 0.5), at[1] - head * (uy * 0.87 + ux * 0.5))
+        right = (at[0] - head * (ux * 0.87 + uy * 0.5), at[1] - head * (uy * 0.87 - ux * 0.5))
+        return Polyline((left, at, right), colour, width, (), False, role)
+
+    return [Polyline((tail, tip), colour, width, (), False, role), barbs(tip, dx, dy)] + (
+        [barbs(tail, -dx, -dy)] if both else [])
 
 
 # ----------------------------------------------------------------------------- drawing panels

@@ -564,7 +564,10 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             tip, edge, direction = ex.point_mm, ex.side, ex.direction_mm
             label = (_t("sheet.vp_far", vp=name, distance=f"{ex.distance_mm:.0f}") if finite
                      else _t("sheet.vp_infinite", vp=name))
-            arrow = _arrow(tip, direction, ARROW_MM, "black", 0.35, "vp_arrow")
+            # toward parallels, a double-headed arrow: a direction, where a single head read
+            # as pointing at a vanishing point (a read-through)
+            arrow = _arrow(tip, direction, ARROW_MM, "black", 0.35, "vp_arrow",
+                           both=not finite)
             tw = text_width_mm(label, 8, "Helvetica-Bold")
             n = math.hypot(*direction)
             ux, uy = direction[0] / n, direction[1] / n
@@ -718,6 +721,12 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
     out: list[Item] = []
     named: list[str] = []
     marks: list[tuple[float, float, float, float]] = []  # the ticks so far, as segments
+    # ... and every arrow's tip, from which a tick keeps TICK_GAP_MM too: a tick running
+    # beside an arrow toward the same point hid where "beyond the arrow's tip" starts (the
+    # bottle's, the chair's and the train's arrows toward their points below, a read-through)
+    tips = [it.points_mm[-1] for it in items if isinstance(it, Polyline)
+            and it.role == "vp_arrow" and len(it.points_mm) == 2]
+    marks += [(p[0], p[1], p[0], p[1]) for p in tips]
     # Per vanishing point off the sheet: the lines to try, in order.  The evenly spread lines
     # come middle first, then spreading out; where fewer than two pairs fit, the lines
     # half-way between them too (the desk's point below: each of the first seven had a tick

@@ -1100,3 +1100,31 @@ def test_no_sheet_arrow_lies_in_the_finished_drawing(examples):
                         assert not S._in_convex(hull, ((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)), \
                             (name, view.name, it.string)
     assert checked >= 8
+
+
+def test_ticks_keep_off_the_arrows_tips_and_parallels_get_a_double_headed_arrow(examples):
+    """A tick on the frame keeps TICK_GAP_MM from every arrow's tip, where the distance "beyond
+    the arrow's tip" starts (the train's B2 tick ran beside the tip of its arrow toward the
+    point below, a read-through); the arrow toward parallels has a head at each end (a
+    direction: with one head it read as pointing at a vanishing point)."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            lines = [s.points_mm for st in vp.steps for s in st.strokes]
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
+            polys = [it for it in sheet.items if isinstance(it, L.Polyline)]
+            shafts = [it for it in polys if it.role == "vp_arrow" and len(it.points_mm) == 2]
+            ticks = [it for it in polys if it.role == "vp_tick"]
+            for tick in ticks:
+                for shaft in shafts:
+                    assert math.dist(tick.points_mm[0], shaft.points_mm[-1]) >= \
+                        S.TICK_GAP_MM - 1e-9, (name, view.name)
+                    checked += 1
+            heads = [it for it in polys if it.role == "vp_arrow" and len(it.points_mm) == 3]
+            n_heads = [sum(1 for h in heads for end in shaft.points_mm
+                           if math.dist(h.points_mm[1], end) < 1e-9) for shaft in shafts]
+            parallels = sum(1 for v in vp.vanishing_points if v.at_infinity)
+            assert sorted(n_heads) == [1] * (len(shafts) - parallels) + [2] * parallels, (
+                name, view.name)
+    assert checked > 50
