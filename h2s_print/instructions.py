@@ -344,6 +344,7 @@ def construction_specs(con: Construction, parent: str, face: str,
     t_axis = con.result.axis if con.result.axis is not None else s_axis
     out: list[Spec] = []
     last: str | None = None
+    extended: dict[str, Pts] = {}  # a new point -> the edge whose extension it lies on
     lines = list(con.lines)
     i = 0
     while i < len(lines):
@@ -385,12 +386,15 @@ def construction_specs(con: Construction, parent: str, face: str,
                 last = crossing
             else:  # extension: origin -> midpoint of the shared edge -> the new point
                 mid = "F" if _s(at, con, b) > 1 else "E"
+                # the line it meets is named (the edge's extension, drawn just before): "it"
+                # read as the line being drawn (a read-through)
                 out.append(spec("connect_through", ("line", points_key((at[a], at[b]), tol)),
                                 start=Pts((at[a],)), through=Pts((at[mid],)),
-                                point=Pts((at[b],)), role=ln.role))
+                                point=Pts((at[b],)), edge=extended[b], role=ln.role))
                 last = b
         elif ln.key == "extend":
             beyond = "B" if a == "A" else "A"
+            extended[b] = Pts((at[a], at[beyond]))
             out.append(spec("extend", ("line", points_key((at[a], at[b]), tol)),
                             edge=Pts((at[a], at[beyond])), end=Pts((at[beyond],)),
                             vp=vp(s_axis), role=ln.role))

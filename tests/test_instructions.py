@@ -86,9 +86,11 @@ def test_substeps_name_every_line_and_their_points_lie_where_the_construction_pu
         if s.key == "connect":
             (p,) = f["point"].points
             assert _on_line(p, *f["line"].points) and _on_line(p, *f["other"].points), s
-        if s.key == "connect_through":  # start, through and the new point are collinear
+        if s.key == "connect_through":  # start, through and the new point are collinear,
+            # and the new point lies on the extension of the edge it names
             (a,), (m,), (p,) = f["start"].points, f["through"].points, f["point"].points
             assert _on_line(m, a, p), s
+            assert _on_line(p, *f["edge"].points), s
     # the last sub-step draws the resulting guide
     last = dict(specs[-1].fields)["line"].points
     res = (con.result.start, con.result.end)

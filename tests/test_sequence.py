@@ -1547,14 +1547,16 @@ LINE = r"(?<![A-Za-z'])([A-Z]'*[A-Z]'*)(?![A-Za-z'])"
 
 
 def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
-    """"Carry AB to the head, vertically" never names a line that is itself vertical: such a
-    line is extended ("Extend AB to the head."), checked on the lettered points' 3D
+    """"Carry AB vertically, as pictured" never names a line that is itself vertical: such a
+    line is extended ("Extend AB as pictured."), checked on the lettered points' 3D
     positions."""
     from h2s_print import sequence as seq
     from h2s_print.templates import lookup
 
     carry = lookup("steps", "substep.carry").split("{")[0]  # "Carry "
     extend = lookup("steps", "substep.extend_to").split("{")[0]  # "Extend "
+    beyond = re.compile(re.escape(lookup("steps", "substep.extend")).replace(
+        r"\{edge\}", ".+").replace(r"\{end\}", ".+"))  # "Extend AB beyond B." constructs
 
     def direction(at, line):
         d = np.asarray(at[line[1]], dtype=float) - np.asarray(at[line[0]], dtype=float)
@@ -1583,7 +1585,7 @@ def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
                                 assert abs(d[axis]) < 1 - 1e-6, (name, step.index, s)
                                 carried += 1
                             start = pos + len(phrase)
-                    elif s.startswith(extend) and " to " in s:
+                    elif s.startswith(extend) and not beyond.fullmatch(s):
                         for line in lines:
                             d = direction(at, re.findall(r"[A-Z]'*", line))
                             assert max(abs(d)) > 1 - 1e-6, (name, step.index, s)
@@ -2334,6 +2336,12 @@ def test_a_part_no_anchor_places_along_an_axis_is_placed_as_pictured(examples):
     """Where an axis of a part's box is placed by no anchor and lined up with nothing drawn,
     the step says to place the box as pictured, where it has room (a read-through of stop
     27: the roller's ferrule, "its height by eye", said nowhere how high it sits)."""
+    from h2s_print.templates import lookup
+
+    # "Draw the box on these lines, as pictured; ..." (carries say "as pictured" of a length)
+    placed = re.compile("|".join(re.escape(lookup("steps", f"substep.{k}")).replace(
+        r"\{shape\}", ".+").replace(r"\{dims\}", ".+")
+        for k in ("place_by_eye_where", "place_by_eye_there_where")))
     checked = 0
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
@@ -2341,12 +2349,13 @@ def test_a_part_no_anchor_places_along_an_axis_is_placed_as_pictured(examples):
             for s in views[(view.name, "novice")].steps:
                 if s.kind != "primitive" or s.part is None or not chosen[s.part].anchors:
                     continue
+                as_pictured = any(placed.fullmatch(x) for x in s.substeps)
                 if not chosen[s.part].unguided_axes:
-                    assert "as pictured" not in s.text
+                    assert not as_pictured
                     continue
                 if any(x.startswith(("Centre it ", "Line up its ")) for x in s.substeps):
                     continue
-                assert "as pictured" in s.text or len(s.text.split()) + 2 > seq_drafts.MAX_STEP_WORDS, (
+                assert as_pictured or len(s.text.split()) + 2 > seq_drafts.MAX_STEP_WORDS, (
                     name, view.name, s.index, s.text)
                 checked += 1
     assert checked >= 2
@@ -2394,3 +2403,39 @@ def test_a_cylinder_whose_sides_the_drawing_hides_is_not_joined(examples, shared
     assert all(any("the lens" in x and ("Join" in x or "join" in x) for s in vp.steps
                    for x in s.substeps)
                for (view, level), vp in views.items() if level == "novice")
+
+
+def test_a_line_from_an_earlier_step_is_named_as_that_step_named_it(examples):
+    """A line a step cites from an earlier one ("from step 7") is named with the letters in
+    that step's order, wherever it is named again: the mixer read "Use diagonals SH and JT
+    from step 7" where step 7 drew "SH and TJ" (a read-through).  Checked on the lettered
+    points' 3D positions: a segment named again by the same two letters, at the same two
+    points, is named in the same order."""
+    from h2s_print.templates import lookup
+
+    beyond = re.compile(re.escape(lookup("steps", "substep.extend")).replace(
+        r"\{edge\}", ".+").replace(r"\{end\}", ".+"))
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            named: dict[frozenset, tuple[str, np.ndarray, np.ndarray]] = {}
+            for step in views[(view.name, "novice")].steps:
+                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in step.labels}
+                for s in step.substeps:
+                    if beyond.fullmatch(s) or " meeting " in s:
+                        continue  # an edge extended is named toward the end it passes
+                    for line in re.findall(LINE, s):
+                        ends = re.findall(r"[A-Z]'*", line)
+                        if len(ends) != 2 or not all(e in at for e in ends):
+                            continue
+                        key = frozenset(ends)
+                        if key in named:
+                            first, p, q = named[key]
+                            a, b = re.findall(r"[A-Z]'*", first)
+                            u, v = at[a], at[b]  # the same letters, here
+                            if np.allclose(u, p) and np.allclose(v, q):  # the same segment
+                                assert line == first, (name, view.name, step.index, s)
+                                checked += 1
+                                continue
+                        named[key] = (line, at[ends[0]], at[ends[1]])
+    assert checked > 20

@@ -1060,17 +1060,28 @@ class _Context(_Repeats, _Ellipses):
     def drawn_before(self, s: Spec, step: int) -> Spec:
         """``s``, or "Use ... from step N" when an earlier step drew all its lines (the
         diagonals of a face another part's step already divided, say)."""
-        if s.key not in _DRAWS or not self._drawn:
+        if not self._drawn:
             return s
+        # a line an earlier step drew is named as that step named it: "Use diagonals SH and
+        # TJ from step 7 ... it crosses TJ", not "JT" (a read-through)
         f = dict(s.fields)
-        lines = [f[k].points for k in _DRAWS[s.key] if isinstance(f.get(k), Pts)]
-        steps = []
-        for a, b in lines:
-            at = [n for p, q, n in self._drawn if n < step and _same_segment(a, b, p, q, self.tol)]
-            if not at:
-                return s
-            steps.append(at[0])
-        return spec(f"{s.key}_reuse", s.same, s.pair, step=max(steps), **f)
+        drawn_in: dict[str, int] = {}
+        for k, v in f.items():
+            if not (isinstance(v, Pts) and len(v.points) == 2) or k == "edge":
+                continue  # (an edge extended is named toward the end it is extended beyond)
+            a, b = v.points
+            at = [(n, p) for p, q, n in self._drawn
+                  if n < step and _same_segment(a, b, p, q, self.tol)]
+            if at:
+                drawn_in[k], p = at[0]
+                if not _same_segment(a, a, p, p, self.tol):
+                    f[k] = Pts((b, a))
+        if s.key not in _DRAWS:
+            return spec(s.key, s.same, s.pair, **f) if drawn_in else s
+        keys = [k for k in _DRAWS[s.key] if isinstance(f.get(k), Pts)]
+        if not all(k in drawn_in for k in keys):
+            return spec(s.key, s.same, s.pair, **f) if drawn_in else s
+        return spec(f"{s.key}_reuse", s.same, s.pair, step=max(drawn_in[k] for k in keys), **f)
 
     def anchor_side(self, anchor: Any) -> str:
         """The side of the part an anchor places ("back", "middle (front to back)")."""
