@@ -148,7 +148,8 @@ def _letter(k: int) -> str:
 def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                  render: Callable[[str, dict[str, Any]], str],
                  join: Callable[[list[str]], str] = ", ".join,
-                 on_paper: Sequence[tuple[Vec3, int]] = ()
+                 on_paper: Sequence[tuple[Vec3, int]] = (),
+                 lines_on_paper: Sequence[tuple[Vec3, Vec3, int]] = ()
                  ) -> list[tuple[list[str], list[tuple[str, Vec3]]]]:
     """Letters for every point the steps' sub-steps name, and the formatted sub-steps.
 
@@ -171,6 +172,10 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         on_paper: ``(point, step)``: the point is still on the paper at that step (an end of
             a guide shown there); a named point lives at least that long, so its letter is
             not given to another point while its line is still drawn.
+        lines_on_paper: ``(start, end, step)``: a line still on the paper at that step; a
+            named point on it (a crossing of two diagonals, say) lives at least that long:
+            the train's "E" named the crossing of AC and BD, then, with both still drawn,
+            another point (a read-through).
 
     Returns:
         per step, ``(sentences, labels)``: one sentence per spec, and ``(letter, point)`` for
@@ -220,6 +225,20 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             rx, ry, rz = points[i]
             if abs(rx - x) <= tol and abs(ry - y) <= tol and abs(rz - z) <= tol:
                 last[i] = max(last[i], k)
+    if lines_on_paper and last:  # a named point on a line still drawn lives on too
+        ids = list(last)
+        pts = np.array([points[i] for i in ids], dtype=float)  # (n, 3)
+        a = np.array([ln[0] for ln in lines_on_paper], dtype=float)  # (m, 3)
+        d = np.array([ln[1] for ln in lines_on_paper], dtype=float) - a
+        until = np.array([ln[2] for ln in lines_on_paper])
+        w = pts[:, None, :] - a[None, :, :]  # (n, m, 3)
+        t = np.clip((w * d[None]).sum(axis=2) / np.maximum((d * d).sum(axis=1), 1e-300),
+                    0.0, 1.0)
+        off = np.abs(w - t[:, :, None] * d[None]).max(axis=2)  # (n, m), max norm as find()
+        for row, i in enumerate(ids):
+            on = off[row] <= tol
+            if on.any():
+                last[i] = max(last[i], int(until[on].max()))
     # the earlier steps each step sends the reader back to ("Use KL from step 2")
     cites = [{v - 1 for s in specs for name, v in s.fields
               if name == "step" and isinstance(v, int) and 0 < v <= k}

@@ -2439,3 +2439,38 @@ def test_a_line_from_an_earlier_step_is_named_as_that_step_named_it(examples):
                                 continue
                         named[key] = (line, at[ends[0]], at[ends[1]])
     assert checked > 20
+
+
+def _on_seg(p, a, b, tol=1e-7):
+    p, a, b = (np.asarray(x, dtype=float) for x in (p, a, b))
+    d = b - a
+    t = float(np.clip(np.dot(p - a, d) / max(float(np.dot(d, d)), 1e-300), 0.0, 1.0))
+    return float(np.abs(p - a - t * d).max()) <= tol * max(1.0, float(np.abs(d).max()))
+
+
+def test_a_letter_names_no_other_point_while_a_line_through_the_first_is_drawn(examples):
+    """A letter given to a point is not given to another while a guide through the first
+    point is still drawn (the train's E named the crossing of AC and BD, then, with both
+    still drawn, where CQ crosses BD: a read-through).  A guide is drawn from the first
+    step whose picture has it to the last."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            steps = views[(view.name, "novice")].steps
+            life: dict[str, list] = {}  # guide id -> [first, last, from3d, to3d]
+            for k, s in enumerate(steps):
+                for g in s.guides:
+                    life.setdefault(g.id, [k, k, g.from3d, g.to3d])[1] = k
+            named: dict[str, list[tuple[int, tuple]]] = {}  # letter -> (step, point)
+            for k, s in enumerate(steps):
+                for lb in s.labels:
+                    if lb.kind != "point":
+                        continue
+                    for j, q in named.get(lb.name, []):
+                        if j < k and not np.allclose(q, lb.at3d, atol=1e-7):
+                            through = [gid for gid, (f, last, a, b) in life.items()
+                                       if last >= k and f <= k and _on_seg(q, a, b)]
+                            assert not through, (name, view.name, k + 1, lb.name, through)
+                            checked += 1
+                    named.setdefault(lb.name, []).append((k, lb.at3d))
+    assert checked > 50

@@ -670,13 +670,15 @@ class _Context(_Repeats, _Ellipses):
                     continue
                 last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
         on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
+        drawn = [(a, b, k) for k, a, b in last.values()]  # and every point on them
         # the sheet's floor line, kept while a step stands a part on the floor
         start, until = _floor_span(drafts)
         if start is not None and until > start:
             lines = _first_lines(drafts[start].strokes, self.camera, self.floor_z(False))
             if lines is not None and lines.floor is not None:
                 on_paper += [(p, until) for p in lines.floor]
-        done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper)
+        done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper,
+                            drawn)
         return [replace(d, substeps=tuple(subs), labels=tuple(labels))
                 for d, (subs, labels) in zip(drafts, done)]
 
