@@ -2474,3 +2474,21 @@ def test_a_letter_names_no_other_point_while_a_line_through_the_first_is_drawn(e
                             checked += 1
                     named.setdefault(lb.name, []).append((k, lb.at3d))
     assert checked > 50
+
+
+def test_a_far_ellipse_names_the_face_its_points_are_carried_to(examples):
+    """"Carry ... to H, D, J and G on the back face's edges; draw the ellipse through them":
+    the face is named as the headline names the end ("the far face's edges" and "its ellipse"
+    read as jargon, a read-through)."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for s in vp.steps:
+                m = re.search(r"the ellipses? of (?:its|their) (\w+) ends?\.", s.headline)
+                carried = [x for x in s.substeps if "face's edges" in x]
+                if m and carried:
+                    assert all(f"the {m.group(1)} face's edges" in x for x in carried), s.text
+                    checked += 1
+    assert checked >= 4

@@ -158,8 +158,11 @@ class _Ellipses:
             part, "ellipse", False,
             tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
             strokes, head,
+            # the far face by its name, as the headline names the end ("the far face" read as
+            # jargon)
             self.lettered([spec("ellipse_carry", points=around, new=reached,
-                                vp=self.words.vp(axis, fe.touch[0], be.touch[0])), *same])))
+                                vp=self.words.vp(axis, fe.touch[0], be.touch[0]),
+                                face=self.words.face(axis, be.face.end)), *same])))
         return out
 
     def ellipse_key(self, d: _Draft) -> tuple:
