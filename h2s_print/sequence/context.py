@@ -1296,10 +1296,13 @@ class _Context(_Repeats, _Ellipses):
                     d = replace(d, strokes=tuple(unnamed) + d.strokes)
                     unnamed = []
                 head = lead.get(d.part, d.part)
-                if head in at:
-                    k = at[head]
+                if head in at:  # named after all its parts (a read-through: the desk's
+                    k = at[head]  # "Part 2: its outlines" traced part 3 too, unnamed)
+                    group = merged[k].group + (d.part,)
                     merged[k] = replace(merged[k], strokes=merged[k].strokes + d.strokes,
-                                        group=merged[k].group + (d.part,))
+                                        group=group, headline=_t(
+                                            "headline.contour_many",
+                                            Parts=_cap(_join([self.say(q) for q in group]))))
                 else:  # the step is named after the group's first part, as its other steps
                     at[head] = len(merged)
                     merged.append(replace(d, part=head, group=(d.part,)))
@@ -1311,7 +1314,7 @@ class _Context(_Repeats, _Ellipses):
                                                     part=self.say(head)),) + merged[k].specs)
                 else:
                     drafts.append(e)
-            drafts += self.pack_outlines(merged, lead)
+            drafts += self.pack_outlines(merged, lead, self.hidden_drawn(order, self.adjusted))
             self._unlettered = tuple(self.promoted(drafts))
             self._guided = tuple(self.letter(self._unlettered))
         return self._guided
@@ -1395,7 +1398,9 @@ class _Context(_Repeats, _Ellipses):
             drafts += [d for p in order if _round(self.plan.primitive(p))
                        for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
             outlines = self.contour_drafts(order, self.originals)
-            drafts += outlines[:-1] + [self.finish(d, basic=True) for d in outlines[-1:]]
+            unseen = self.hidden_drawn(order, self.originals)
+            drafts += outlines[:-1] + [self.finish(d, basic=True, unseen=unseen)
+                                       for d in outlines[-1:]]
             self._basic = tuple(self.letter(drafts))
         return self._basic
 

@@ -224,7 +224,14 @@ class _Ellipses:
                               (spec(key),)))
         return out
 
-    def pack_outlines(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
+    def hidden_drawn(self, order: Sequence[str], parts: dict[str, Part]) -> list[str]:
+        """Parts of ``order`` (drawn as boxes) with no line in the finished drawing: kept
+        because a part that shows hangs off them (the chair's part 5, under its seat)."""
+        finals = self.finals(parts)
+        return [p for p in order if not finals[p]]
+
+    def pack_outlines(self, drafts: Sequence[_Draft], lead: Mapping[str, str],
+                      unseen: Sequence[str] = ()) -> list[_Draft]:
         """Consecutive outline drafts packed into steps while the text stays within
         :data:`MAX_STEP_WORDS` and a step traces at most :data:`OUTLINE_SHAPES` distinct
         shapes (a part and its copies are one): a drawing teacher does not give each small
@@ -235,15 +242,22 @@ class _Ellipses:
         scaffold (:meth:`finish`), within the same limit: where it would not fit, the last
         outline draft is a step of its own."""
         out = self._packed(drafts, lead)
-        if out and self.step_words(self.finish(out[-1]).specs, out[-1].headline) > MAX_STEP_WORDS:
+        if out and self.step_words(self.finish(out[-1], unseen=unseen).specs,
+                                   out[-1].headline) > MAX_STEP_WORDS:
             out = self._packed(drafts[:-1], lead) + self._packed(drafts[-1:], lead)
-        return out[:-1] + [self.finish(out[-1])] if out else out
+        return out[:-1] + [self.finish(out[-1], unseen=unseen)] if out else out
 
-    def finish(self, d: _Draft, basic: bool = False) -> _Draft:
-        """The tutorial's last step, with its last sub-step: erase the boxes and guides round
-        the outlines (a read-through: no step said so, and the finished drawing kept its
+    def finish(self, d: _Draft, basic: bool = False, unseen: Sequence[str] = ()) -> _Draft:
+        """The tutorial's last step, with its last sub-steps: the parts drawn as boxes that
+        the finished drawing hides, said to have no outlines (a read-through: the chair's
+        part 5 was built, then never named again), and erase the boxes and guides round the
+        outlines (a read-through: no step said so, and the finished drawing kept its
         scaffold); the control tutorial (``basic``) has boxes only, and no word of guides."""
-        return replace(d, specs=d.specs + (spec("erase_boxes" if basic else "erase_scaffold"),))
+        names = [self.say(p) for p in unseen]
+        said = ((spec("hidden_part", Part=_cap(names[0])),) if len(names) == 1 else
+                (spec("hidden_parts", Parts=_cap(_join(names))),) if names else ())
+        return replace(d, specs=d.specs + said + (
+            spec("erase_boxes" if basic else "erase_scaffold"),))
 
     def _packed(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
         out: list[_Draft] = []
