@@ -542,21 +542,25 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # (the desk's upward arrow crossed its printed top, all across the sheet's top)
         ways = [vp] + ([replace(vp, direction_mm=(-vp.direction_mm[0], -vp.direction_mm[1]))]
                        if vp.at_infinity else [])
+        n = math.hypot(*exit_.direction_mm)
+        across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
+
+        def shifted(way: Any, k: int, origin: Pt = origin, across: Pt = across) -> Any:
+            """The exit toward ``way`` from the origin moved ``k`` shifts across the ray
+            (ARROW_SHIFT_MM each), if that origin is inside the frame and the arrow's shaft
+            clear of the printed first box; else None."""
+            moved = (origin[0] + ARROW_SHIFT_MM * k * across[0],
+                     origin[1] + ARROW_SHIFT_MM * k * across[1])
+            if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
+                return None
+            other = edge_exit(plan.camera, way, inset_mm=m + 2.0, origin_mm=moved)
+            if other is None or (len(ground) and _shaft_near(other, ground, ARROW_CLEAR_MM)):
+                return None
+            return other
+
         if len(ground) and _shaft_near(exit_, ground, ARROW_CLEAR_MM):
-            n = math.hypot(*exit_.direction_mm)
-            across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
-            for way in ways:
-                for k in (0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6):
-                    moved = (origin[0] + 8.0 * k * across[0], origin[1] + 8.0 * k * across[1])
-                    if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
-                        continue
-                    other = edge_exit(plan.camera, way, inset_mm=m + 2.0, origin_mm=moved)
-                    if other is not None and not _shaft_near(other, ground, ARROW_CLEAR_MM):
-                        exit_ = other
-                        break
-                else:
-                    continue
-                break
+            exit_ = next((x for way in ways for k in (0, 1, -1, 2, -2, 3, -3, 4, -4, 5, -5, 6, -6)
+                          if (x := shifted(way, k)) is not None), exit_)
 
         def labelled(ex: Any, detail: str = detail, name: str = name, finite: bool = finite
                      ) -> tuple[list[Polyline], list[Text], bool]:
@@ -609,22 +613,15 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # points at its vanishing point): the arrow toward parallels at the sheet's middle lay
         # in the drawing of any object drawn there top to bottom (the bottle's lid, the oven),
         # the train's left-VP label in its chimney
-        n = math.hypot(*exit_.direction_mm)
+        n = math.hypot(*exit_.direction_mm)  # (across the ray as it is now)
         across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
-        for k in ARROW_SHIFTS:
-            for way in ways:
-                moved = (origin[0] + ARROW_SHIFT_MM * k * across[0],
-                         origin[1] + ARROW_SHIFT_MM * k * across[1])
-                if not (inner[0] < moved[0] < inner[2] and inner[1] < moved[1] < inner[3]):
-                    continue
-                other = edge_exit(plan.camera, way, inset_mm=m + 2.0, origin_mm=moved)
-                if other is not None and not (len(ground) and _shaft_near(other, ground,
-                                                                           ARROW_CLEAR_MM)):
-                    exits.append(other)
+        exits += [x for k in ARROW_SHIFTS for way in ways
+                  if (x := shifted(way, k, across=across)) is not None]
         chosen = None
         tried_first = False  # the first way's label tried off the drawing already
         # the label off the drawing; else off its lines only (the train fills its frame: the
         # arrow toward its left vanishing point sat in the chimney), the arrow never inside
+        # it here (only the fallback below, where no arrow finds room, may put it there)
         for avoid, inside in ((area, hull), (shadow, footprint)):
             for i, ex in enumerate(exits):
                 arrow, block, vertical = labelled(ex)

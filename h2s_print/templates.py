@@ -52,7 +52,7 @@ FIELDS: dict[str, frozenset[str]] = {
     "steps": frozenset((
         "Part", "Parts", "about", "amount", "counts", "dim", "dims", "edge", "edges", "end",
         "face", "faces", "first", "fraction", "half", "hi", "index", "kind", "label", "line",
-        "lines", "lines2", "lo", "n", "new", "other", "parent", "part", "parts", "point",
+        "lines", "lines2", "lo", "n", "new", "nth", "other", "parent", "part", "parts", "point",
         "beyond", "near", "points", "position", "pside", "psides", "directions", "reused", "second", "shape", "shift", "side", "sides", "small", "large", "start",
         "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "total",
         "turns",
@@ -293,6 +293,9 @@ def _check_orthography(path: Path, rules: Any) -> None:
     """``orthography`` is a list of [regular expression, replacement] pairs."""
     for i, rule in enumerate(rules if isinstance(rules, list) else [rules]):
         try:
+            if not (isinstance(rule, list) and len(rule) == 2
+                    and all(isinstance(x, str) for x in rule)):
+                raise ValueError(f"not a pair of texts: {rule!r}")
             pattern, replacement = rule
             re.compile(pattern)
             re.sub(pattern, replacement, "")
