@@ -366,7 +366,7 @@ def test_a_step_stays_short_and_a_master_reads_headline_and_ratio_words(examples
 
 
 def test_a_line_is_not_cited_when_a_later_sub_step_names_it(examples):
-    """"Use KL from step 2" or "Use the edge KL" before "Carry KL to the grip" only repeats
+    """"Use KL from step 2" or "Use the edge KL" before "Carry KL vertically" only repeats
     KL (the picture shows it used again): such a citation is left out."""
     cited = 0
     for name, (t, plan, views) in examples.items():

@@ -86,6 +86,7 @@ from .geometry import (
 from .repeats import _Repeats
 from .words import (
     _cap,
+    _guides_of,
     _join,
     _plural,
     _position,
@@ -584,7 +585,7 @@ class _Context(_Repeats, _Ellipses):
 
     def uncited(self, specs: Sequence[Spec]) -> list[Spec]:
         """``specs`` without citing a line that a later sub-step of the step names: "Use KL
-        from step 2" or "Use the edge KL" before "Carry KL to the grip" only repeated KL,
+        from step 2" or "Use the edge KL" before "Carry KL vertically" only repeated KL,
         which the picture shows as used again (issue 11: one sub-step per construction).  A
         citation keeps the lines no later sub-step names."""
         specs = self.centred_cited(specs)
@@ -925,9 +926,8 @@ class _Context(_Repeats, _Ellipses):
             # step (a guides step over the word limit cannot be cut: the train's chimney
             # carried three lines around corners in 71 words)
             if (len(carrying) > 1 and not extended and len(carries) == len(carrying)
-                    and self.step_words(carrying, _t("headline.guides_of", part=name,
-                                                     the_parents=_the(self.say(owner)),
-                                                     n=9, total=9))
+                    and self.step_words(carrying, _guides_of(9, 9, part=name,
+                                                             the_parents=_the(self.say(owner))))
                     > MAX_STEP_WORDS):
                 carry_units = [_Unit(owner, [x], by_group[axis, turn][0],
                                      carried_for=by_group[axis, turn][1])
@@ -955,13 +955,17 @@ class _Context(_Repeats, _Ellipses):
         lined = {a.axis for _, a in unguided}
         unplaced = "_where" if any(ax not in lined for ax in cand.unguided_axes) else ""
 
+        # a tapered part whose smaller end is an easy ratio of its larger: the lines place
+        # the box around it, drawn first, then its smaller end shrunk within it ("Draw the
+        # tapered box on these lines" left the mixer's bowl's top corners on no line; said
+        # before the box, the taper was read before the box it shrinks, a read-through)
+        placed = words.shape("frustum_around") if taper else shape
+
         def closing_with(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
             said, dims = by_eye(chosen)
-            # the taper before "Draw the tapered box on these lines" (a read-through: said
-            # after it, the box was drawn before its smaller end was known)
-            return (placing + said + taper
-                    + [spec("place_by_eye" + there, shape=shape, dims=dims) if dims
-                       else spec("place" + there, shape=shape)] + copies)
+            return (placing + said
+                    + [spec("place_by_eye" + there, shape=placed, dims=dims) if dims
+                       else spec("place" + there, shape=placed)] + taper + copies)
 
         closing = closing_with([])
         head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
@@ -969,8 +973,7 @@ class _Context(_Repeats, _Ellipses):
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             if total > 1:  # several guides steps for one part: numbered (a read-through took
                 # three pages headed alike for one page repeated)
-                return _t("headline.guides_of", part=name, the_parents=gparents, n=n,
-                          total=total)
+                return _guides_of(n, total, part=name, the_parents=gparents)
             return _t("headline.guides", part=name, the_parents=gparents)
 
         groups = self.pack(list(units.values()), closing, head, step, guides_head)
@@ -984,7 +987,7 @@ class _Context(_Repeats, _Ellipses):
             # an edge of a drawn part is cited where it is used (the placing step), never in
             # a guides step, which would have nothing to do with it ("Use the edge HJ."); a
             # guides step draws it only where another of its sentences names it ("Extend NQ
-            # to the head"): else neither its line nor its part is on the guides step (the
+            # as pictured"): else neither its line nor its part is on the guides step (the
             # mixer's column edge was drawn orange in "Guides for the head (1/2), on the
             # bowl and the column", which never said it: a read-through of stop 27)
             shown = [u for u in group if not (all(x.key in _EDGE_CITES for x in u.specs)
@@ -1022,6 +1025,10 @@ class _Context(_Repeats, _Ellipses):
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
                  + [ln for u in before if any(u is c for c in carry_units) for ln in u.lines]
                  + [ln for u in last for ln in u.lines])
+        if taper:  # "Draw the box around it": its edges are on the picture, and a later
+            # construction on it uses it from here ("Use the box around the prism from step 7")
+            lines += self.box_around(part)
+            self._box_steps.setdefault(part, here)
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
                              summary))
         return drafts
@@ -1061,7 +1068,10 @@ class _Context(_Repeats, _Ellipses):
 
     def drawn_before(self, s: Spec, step: int) -> Spec:
         """``s``, or "Use ... from step N" when an earlier step drew all its lines (the
-        diagonals of a face another part's step already divided, say)."""
+        diagonals of a face another part's step already divided, say); either way, each
+        two-point field naming a line an earlier step drew (an edge extended aside) has its
+        points in the order of that line as drawn, which is the order the sub-steps that drew
+        it named it in (constructions and ellipses build both alike)."""
         if not self._drawn:
             return s
         # a line an earlier step drew is named as that step named it: "Use diagonals SH and

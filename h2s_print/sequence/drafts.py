@@ -185,8 +185,8 @@ class _Unit:
 
 
 def _names_lines_of(u: _Unit, group: Sequence[_Unit], tol: float) -> bool:
-    """Does a sentence of another unit of ``group`` name a line of ``u`` ("Extend NQ to the
-    head" names the edge NQ that ``u`` cites)?"""
+    """Does a sentence of another unit of ``group`` name a line of ``u`` ("Extend NQ as
+    pictured" names the edge NQ that ``u`` cites)?"""
     runs = [r.points for v in group if v is not u for x in v.specs for _, val in x.fields
             if isinstance(val, (Pts, Many)) for r in line_runs(val) if len(r.points) == 2]
     return any(_same_segment(ln.start, ln.end, a, b, tol) for ln in u.lines for a, b in runs)

@@ -27,6 +27,16 @@ def _t(key: str, **fields: Any) -> str:
 _the = templates.the
 
 
+def _guides_of(n: int, total: int, **fields: Any) -> str:
+    """The headline of the ``n``-th of ``total`` guides steps for one part: "Second guides
+    for the flash, on the lens." (by ordinal: "(2/3)" read as the primer's two thirds), past
+    the ordinals "Guides for the flash (13 of 14), ..."."""
+    ordinals = _raw("ordinals")
+    if 1 <= n <= len(ordinals):
+        return _t("headline.guides_of", nth=ordinals[n - 1], **fields)
+    return _t("headline.guides_of_many", n=n, total=total, **fields)
+
+
 def _raw(key: str) -> Any:
     return templates.lookup("steps", key)
 
