@@ -633,13 +633,21 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
             items.append(Text(x1 if left else x0, y, row, size, "Helvetica-Oblique",
                               "end" if left else "start", "green", "close_up_caption"))
         return items + lines + [frames[1]] + close
-    # in the picture, too long to run right from its left edge within the picture (a German
-    # caption ran off the page): the caption ends at its right edge
-    right = x0 + text_width_mm(caption, size, "Helvetica-Oblique") > view.rect[2]
-    items.append(Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0,
-                      caption, size, "Helvetica-Oblique", "end" if right else "start",
-                      "green", "close_up_caption"))
+    items.append(_close_up_caption(view.rect, zview.rect))
     return items + lines + [frames[1]] + close
+
+
+def _close_up_caption(picture: Box2, box: Box2) -> Text:
+    """A close-up's caption in the picture, outside the close-up ``box``: above it in the
+    picture's lower half, else below; running right from its left edge, or, too long for the
+    picture that way (a German caption ran off the page), ending at its right edge."""
+    x0, y0, x1, y1 = box
+    size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
+    below = (y0 + y1) / 2 > (picture[1] + picture[3]) / 2
+    caption = _t("step.close_up")
+    right = x0 + text_width_mm(caption, size, "Helvetica-Oblique") > picture[2]
+    return Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0, caption, size,
+                "Helvetica-Oblique", "end" if right else "start", "green", "close_up_caption")
 
 
 #: A step's lettered points get a close-up when two of them lie closer than this on the
@@ -662,6 +670,8 @@ CLOSE_UP_PAD_MM = 3.0
 #: ... and sits this far inside a corner of the picture, with a caption of this size beside it
 #: (the room for it is kept, :func:`_close_up`).
 CLOSE_UP_INSET_MM = 1.5
+#: In the picture, a close-up is also tried on a grid of this many steps each way.
+CLOSE_UP_GRID = 6
 CLOSE_UP_CAPTION_PT = 6.5
 #: A caption beside the picture is wrapped to its close-up's width, but no narrower than this.
 CLOSE_UP_CAPTION_MIN_MM = 24.0
@@ -781,20 +791,32 @@ def _place_close_up(view: _View, step: Step, region: Box2, wanted: float, crowde
              if (crowded and kind == "part")
              or not (region[0] <= q[0] <= region[2] and region[1] <= q[1] <= region[3])]
     best: tuple[tuple[int, float, int], Box2] | None = None
-    # largest first, smaller (down to the least zoom) where a larger one covers the object
+    # largest first, smaller (down to the least zoom) where a larger one covers the object;
+    # the corners and the sides' middles first, then places on a grid between them (the
+    # camera's close-up sat on its body's lines, with room below the body: a read-through)
     for z in (zoom * f for f in (1.0, 0.85, 0.7, 0.55)):
         if z < CLOSE_UP_MIN_ZOOM:
             break
         w, h = rw * z, rh * z
         cx, cy = (x0 + x1 - w) / 2, (y0 + y1 - h) / 2
-        for bx, by in ((x1 - m - w, y1 - m - h), (x0 + m, y1 - m - h),
-                       (x1 - m - w, y0 + m), (x0 + m, y0 + m),
-                       (cx, y1 - m - h), (cx, y0 + m), (x0 + m, cy), (x1 - m - w, cy)):
+        xs = [x0 + m + (x1 - x0 - 2 * m - w) * k / CLOSE_UP_GRID for k in range(CLOSE_UP_GRID + 1)]
+        ys = [y0 + m + (y1 - y0 - 2 * m - h) * k / CLOSE_UP_GRID for k in range(CLOSE_UP_GRID + 1)]
+        places = [(x1 - m - w, y1 - m - h), (x0 + m, y1 - m - h),
+                  (x1 - m - w, y0 + m), (x0 + m, y0 + m),
+                  (cx, y1 - m - h), (cx, y0 + m), (x0 + m, cy), (x1 - m - w, cy)]
+        places += [(bx, by) for by in ys for bx in xs if (bx, by) not in places]
+        for bx, by in places:
             box = (bx, by, bx + w, by + h)
             if _boxes_overlap(box, region) or any(
                     box[0] <= q[0] <= box[2] and box[1] <= q[1] <= box[3] for q in names):
                 continue
-            score = (_crossings(drawn, box), -z, _crossings(segs, box))
+            # its caption is read over what it crosses too (a read-through: "the small
+            # frame, enlarged" printed across the roller's frame arm)
+            text = _close_up_caption(view.rect, box).box_mm
+            if text[0] < x0 or text[2] > x1 or text[1] < y0 or text[3] > y1:
+                continue
+            score = (_crossings(drawn, box) + _crossings(drawn, text), -z,
+                     _crossings(segs, box) + _crossings(segs, text))
             if best is None or score < best[0]:
                 best = (score, box)
         if best is not None and best[0][0] == 0:
