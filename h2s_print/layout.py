@@ -805,6 +805,7 @@ def _place_close_up(view: _View, step: Step, region: Box2, wanted: float, crowde
                   (x1 - m - w, y0 + m), (x0 + m, y0 + m),
                   (cx, y1 - m - h), (cx, y0 + m), (x0 + m, cy), (x1 - m - w, cy)]
         places += [(bx, by) for by in ys for bx in xs if (bx, by) not in places]
+        boxes, texts = [], []
         for bx, by in places:
             box = (bx, by, bx + w, by + h)
             if _boxes_overlap(box, region) or any(
@@ -815,10 +816,15 @@ def _place_close_up(view: _View, step: Step, region: Box2, wanted: float, crowde
             text = _close_up_caption(view.rect, box).box_mm
             if text[0] < x0 or text[2] > x1 or text[1] < y0 or text[3] > y1:
                 continue
-            score = (_crossings(drawn, box) + _crossings(drawn, text), -z,
-                     _crossings(segs, box) + _crossings(segs, text))
-            if best is None or score < best[0]:
-                best = (score, box)
+            boxes.append(box)
+            texts.append(text)
+        if boxes:  # every place's crossings at once, in bulk
+            on_drawn = _crossings_many(drawn, boxes) + _crossings_many(drawn, texts)
+            on_any = _crossings_many(segs, boxes) + _crossings_many(segs, texts)
+            for box, a, b in zip(boxes, on_drawn.tolist(), on_any.tolist()):
+                score = (a, -z, b)
+                if best is None or score < best[0]:
+                    best = (score, box)
         if best is not None and best[0][0] == 0:
             break
     if best is None:
