@@ -104,6 +104,8 @@ ARROW_MM = 12.0
 #: Where no arrow from the middle finds its label room off the finished drawing, arrows moved
 #: along the frame's edge are tried, by these multiples of ARROW_SHIFT_MM, nearest first.
 ARROW_SHIFT_MM = 8.0
+#: A label within this much of its place beside its arrow reads as the arrow's (mm).
+LABEL_NEAR_MM = 12.0
 ARROW_SHIFTS = tuple(k for j in range(1, 16) for k in (j, -j))
 
 
@@ -184,11 +186,12 @@ def _seen_span(v: np.ndarray, corners: np.ndarray) -> tuple[float, float]:
 
 def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
                     vertical: bool, avoid: np.ndarray | None = None,
-                    inside: np.ndarray | None = None) -> list[Text] | None:
+                    inside: np.ndarray | None = None,
+                    within: float | None = None) -> list[Text] | None:
     """``block`` moved along the frame's edge (``vertical``: up or down, else sideways) by the
     smallest step that keeps it clear of every text and line of :data:`_SHEET_LINES` in
     ``items``, of the segments ``avoid`` and of the convex polygon ``inside``, inside
-    ``frame``; None when no such place is within 60 mm."""
+    ``frame``; None when no such place is within 60 mm (within ``within`` mm, if given)."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
     arrows = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in _SHEET_LINES])
@@ -233,6 +236,8 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
         at = (offsets[:, None, :] + middles[None, :, :]).reshape(-1, 2)
         free = ~_in_convex_all(inside, at).reshape(len(offsets), len(block)).any(axis=1)
     tried = offsets[free]
+    if within is not None:
+        tried = tried[np.hypot(tried[:, 0], tried[:, 1]) <= within]
     start = 0
     for size in (64, 256, len(tried)):  # nearest first, the nearest few places alone first
         fit = np.flatnonzero(clear(tried[start:start + size]))
@@ -347,7 +352,7 @@ def registration_marks(paper_mm: tuple[float, float], margin_mm: float
 
 def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_label: str = "",
                   ground_mm: Sequence[Pt] | None = None, grid: bool = False,
-                  drawing: Sequence[Sequence[Pt]] = ()) -> Page:
+                  drawing: Sequence[Sequence[Pt]] = (), labels_near: bool = True) -> Page:
     """The calibrated drawing sheet at true scale: 1 sheet mm is 1 page mm.
 
     The page is ``plan.paper_mm``.  It shows the frame (the paper margins) with green corners,
@@ -368,6 +373,10 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         drawing: the finished drawing's polylines (sheet mm), not printed: labels are placed
             where they cross none of its lines, so nothing is printed where the person draws
             (and where scoring a scan could not see the pencil).
+        labels_near: a vanishing point's label goes beside its arrow (within
+            :data:`LABEL_NEAR_MM`) where some arrow's allows, before one moved further; the
+            sheet is laid out again without that preference where it leaves a far vanishing
+            point without ticks (the roller's high view).
     """
     w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
     m = float(margin_mm)
@@ -622,17 +631,23 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # the label off the drawing; else off its lines only (the train fills its frame: the
         # arrow toward its left vanishing point sat in the chimney), the arrow never inside
         # it here (only the fallback below, where no arrow finds room, may put it there)
+        # ... and, each way, first beside its arrow: an arrow moved along the frame whose label
+        # fits next to it before a label moved far from its arrow (a read-through: the
+        # bottle's "vanishing point below" 47 mm from its arrow, read as naming a tick)
         for avoid, inside in ((area, hull), (shadow, footprint)):
-            for i, ex in enumerate(exits):
-                arrow, block, vertical = labelled(ex)
-                ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
-                if len(hull) >= 3 and _in_convex_all(hull, ends).any():
-                    continue
-                tried_first = tried_first or (i == 0 and inside is hull)
-                placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, avoid,
-                                         inside)
-                if placed is not None:
-                    chosen = arrow + placed
+            for within in ((LABEL_NEAR_MM, None) if labels_near else (None,)):
+                for i, ex in enumerate(exits):
+                    arrow, block, vertical = labelled(ex)
+                    ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
+                    if len(hull) >= 3 and _in_convex_all(hull, ends).any():
+                        continue
+                    tried_first = tried_first or (i == 0 and inside is hull and within is None)
+                    placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, avoid,
+                                             inside, within)
+                    if placed is not None:
+                        chosen = arrow + placed
+                        break
+                if chosen is not None:
                     break
             if chosen is not None:
                 break
@@ -667,7 +682,13 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             extra = []
         items += extra
         items += texts
-    items += _beside_heading(vp_ticks(plan, frame, items, shadow), items)
+    ticks = vp_ticks(plan, frame, items, shadow)
+    if labels_near and _unticked(plan, frame, ticks):  # the labels beside their arrows took
+        # the room of a far point's ticks: a ruler through ticks matters more
+        return lay_out_sheet(title, plan, margin_mm=margin_mm, view_label=view_label,
+                             ground_mm=ground_mm, grid=grid, drawing=drawing,
+                             labels_near=False)
+    items += _beside_heading(ticks, items)
     if grid:  # the grid stops short of every label, so no text is read through its lines
         boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
         items = [piece for it in items for piece in (
@@ -836,6 +857,19 @@ def _tick_pair(v: Pt, angle: float, reach: float, frame: Box2, corners: Sequence
         else:
             return None
     return made
+
+
+def _unticked(plan: ViewPlan, frame: Box2, ticks: Sequence[Item]) -> bool:
+    """Does a vanishing point off the frame (not at infinity) have no tick (:func:`vp_ticks`)
+    among ``ticks``?"""
+    w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
+    centre = (w / 2, h / 2)
+    want = {_t(f"sheet.tick_names.{vp_side(vp, centre)}") for vp in plan.vanishing_points
+            if not vp.at_infinity and vp.xy_mm is not None
+            and not (frame[0] <= vp.xy_mm[0] <= frame[2] and frame[1] <= vp.xy_mm[1] <= frame[3])}
+    have = {it.string.rstrip("0123456789") for it in ticks
+            if isinstance(it, Text) and it.role == "vp_tick_label"}
+    return not want <= have
 
 
 def _beside_heading(ticks: list[Item], items: list[Item]) -> list[Item]:

@@ -1152,3 +1152,38 @@ def test_a_close_ups_caption_is_not_printed_across_the_object(examples):
                         assert L._crossings(strokes, cap.box_mm) == 0, (view, level)
                     checked += 1
     assert checked >= 20
+
+
+def _own_arrow_distances(sheet):
+    """(label, distance in mm from its box to its own arrow's shaft) for each vanishing point's
+    label: its arrow is the one laid out just before it."""
+    out, shaft = [], None
+    for it in sheet.items:
+        if isinstance(it, L.Polyline) and it.role == "vp_arrow" and len(it.points_mm) == 2:
+            shaft = it.points_mm
+        if isinstance(it, L.Text) and it.role == "vp_label" and shaft is not None:
+            b = it.box_mm
+            pts = [np.asarray(shaft[0]) + t * (np.asarray(shaft[1]) - np.asarray(shaft[0]))
+                   for t in np.linspace(0.0, 1.0, 25)]
+            out.append((it.string, min(math.hypot(max(b[0] - x, 0, x - b[2]),
+                                                  max(b[1] - y, 0, y - b[3])) for x, y in pts)))
+    return out
+
+
+def test_a_vanishing_points_label_sits_beside_its_arrow(examples):
+    """A vanishing point's label goes beside its arrow where an arrow along the frame allows
+    it, before a label moved far from its arrow: the bottle's "vanishing point below" sat
+    47 mm from its arrow, next to a tick it seemed to name (a read-through).  On the camera,
+    mixer and train sheets every such label is within 20 mm of its own arrow (the roller's
+    high view keeps the room for its ticks instead: laid out without the preference)."""
+    checked = 0
+    for name in ("camera", "mixer", "train"):
+        t, plan, views = examples[name]
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            lines = [s.points_mm for st in vp.steps for s in st.strokes]
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm, drawing=lines)
+            for label, d in _own_arrow_distances(sheet):
+                assert d <= 20.0, (name, view.name, label, d)
+                checked += 1
+    assert checked >= 6
