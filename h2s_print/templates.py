@@ -52,7 +52,7 @@ FIELDS: dict[str, frozenset[str]] = {
     "steps": frozenset((
         "Part", "Parts", "about", "amount", "counts", "dim", "dims", "edge", "edges", "end",
         "face", "faces", "first", "fraction", "half", "hi", "index", "kind", "label", "line",
-        "lines", "lines2", "lo", "n", "new", "nth", "other", "parent", "part", "parts", "point",
+        "line2", "lines", "lines2", "lo", "n", "new", "nth", "other2", "point2", "other", "parent", "part", "parts", "point",
         "beyond", "near", "points", "position", "pside", "psides", "directions", "reused", "second", "shape", "shift", "side", "sides", "small", "large", "start",
         "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "total",
         "turns",

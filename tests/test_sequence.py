@@ -2591,3 +2591,31 @@ def test_a_tapered_part_is_drawn_in_the_box_its_lines_place(examples):
                 assert not later, (name, view.name, later)
                 checked += 1
     assert checked >= 3
+
+
+def test_twin_lines_say_which_crosses_which(examples):
+    """"Draw BW and CS; BW crosses AC at H, CS crosses BD at X.": each crossing lies on the
+    line said to make it and on the line said to be crossed, checked on the lettered points'
+    3D positions ("they cross AC and BD at H and X" left the pairing to the picture, a
+    read-through)."""
+    pair = re.compile(r"Draw ([A-Z']+) and ([A-Z']+); \1 crosses ([A-Z']+) at ([A-Z]'*), "
+                      r"\2 crosses ([A-Z']+) at ([A-Z]'*)\.")
+    checked = 0
+    for name, step, s, at, _ in _novice_substeps(examples):
+        m = pair.fullmatch(s)
+        if m is None:
+            assert "they cross" not in s, (name, step.index, s)
+            continue
+        l1, l2, o1, p1, o2, p2 = m.groups()
+        for line, other, p in ((l1, o1, p1), (l2, o2, p2)):
+            a, b = (at[x] for x in re.findall(r"[A-Z]'*", line))
+            c, d = (at[x] for x in re.findall(r"[A-Z]'*", other))
+            assert _on_line3(at[p], a, b) and _on_line3(at[p], c, d), (name, step.index, s)
+        checked += 1
+    assert checked >= 2
+
+
+def _on_line3(p, a, b, tol=1e-6):
+    d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
+    w = np.asarray(p, dtype=float) - np.asarray(a, dtype=float)
+    return float(np.linalg.norm(np.cross(d, w))) <= tol * max(1.0, float(np.dot(d, d)))

@@ -170,6 +170,23 @@ _EDGE_CITES = ("edge", "edge_two", "edge_for")
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
 
+
+def _paired(s: Spec) -> Spec:
+    """Twin lines each crossing a line, said pair by pair: "Draw QT and NS; QT crosses GN at
+    X, NS crosses LQ at Y." ("they cross GN and LQ at X and Y" left which crosses which to
+    the picture, a read-through); other specs as they are."""
+    if s.key != "connect_two":
+        return s
+    f = dict(s.fields)
+    runs = {k: (f[k].items if isinstance(f[k], Many) else (f[k], f[k]))
+            for k in ("line", "other", "point")}
+    if any(len(v) != 2 for v in runs.values()) or not isinstance(f["line"], Many):
+        return s
+    rest = {k: v for k, v in f.items() if k not in runs}
+    return spec("connect_pair", s.same, s.pair, line=runs["line"][0], line2=runs["line"][1],
+                other=runs["other"][0], other2=runs["other"][1], point=runs["point"][0],
+                point2=runs["point"][1], **rest)
+
 @dataclass(eq=False)
 class _Context(_Repeats, _Ellipses):
     """Everything a view needs, computed once and shared by its levels (never escapes)."""
@@ -581,7 +598,7 @@ class _Context(_Repeats, _Ellipses):
         (:func:`h2s_print.instructions.unique_specs`), lines from earlier steps first (so no
         point is used before a sub-step names it); lettered later (:meth:`letter`)."""
         ordered = sorted(specs, key=lambda x: x.key not in ("reuse", "box_reuse"))
-        return tuple(self.uncited(unique_specs(ordered, _plural)))
+        return tuple(_paired(x) for x in self.uncited(unique_specs(ordered, _plural)))
 
     def uncited(self, specs: Sequence[Spec]) -> list[Spec]:
         """``specs`` without citing a line that a later sub-step of the step names: "Use KL
