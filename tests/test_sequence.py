@@ -2619,3 +2619,38 @@ def _on_line3(p, a, b, tol=1e-6):
     d = np.asarray(b, dtype=float) - np.asarray(a, dtype=float)
     w = np.asarray(p, dtype=float) - np.asarray(a, dtype=float)
     return float(np.linalg.norm(np.cross(d, w))) <= tol * max(1.0, float(np.dot(d, d)))
+
+
+def test_a_flat_rectangles_sides_are_its_edges(shared_models):
+    """A part lined up with a flat rectangle's side lies on its edge, not its "face": the IVAR
+    box's panels read "lie on part 1's right, left and bottom faces" of its flat base (a
+    read-through).  Each edge named is an edge of the flat part: the face across its plane."""
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
+                      / "box_ivar.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    checked = 0
+    for view in t.views:
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        flat = {}  # a flat part's name -> the face words across its plane (its edges)
+        for s in vp.steps:
+            if s.kind == "primitive" and plan.primitive(s.part).type == "plane":
+                normal = plan.primitive(s.part).axis
+                flat[s.headline.split(":")[0].lower()] = {
+                    seq_context._context(plan, view, t.paper, t.sequence).words.face(a, e)
+                    for a in range(3) if a != normal for e in ("lo", "hi")}
+        for s in vp.steps:
+            for x in s.substeps:
+                m = re.fullmatch(r"Its .+ lies? on (.+?)'s (.+) (edges?|faces?)\.", x)
+                if m is None or m.group(1) not in flat:
+                    continue
+                named = re.split(r", | and ", m.group(2))
+                across = [w for w in named if w in flat[m.group(1)]]
+                assert (m.group(3).startswith("edge") if across else
+                        m.group(3).startswith("face")), x
+                assert not across or len(across) == len(named), x
+                checked += 1
+    assert checked >= 2

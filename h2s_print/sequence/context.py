@@ -765,9 +765,20 @@ class _Context(_Repeats, _Ellipses):
                 faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con, own, carry))
         for ppart, pairs in on_faces.items():  # said once per parent
-            sides, names = zip(*pairs)
-            flat.append(spec("on_face" if len(pairs) == 1 else "on_faces", sides=_join(sides),
-                             parent=self.say(ppart), faces=_join(names)))
+            # a flat rectangle's "face" across its plane is an edge (a read-through: "lie on
+            # part 1's right, left and bottom faces" of the IVAR box's flat base)
+            pprim = self.plan.primitive(ppart)
+            edge_axis = pprim.axis if pprim.type == "plane" else None
+            named = {words.face(a, e): a for a in range(3) for e in ("lo", "hi")}
+            for edges in (True, False):
+                some = [(sd, nm) for sd, nm in pairs
+                        if (edge_axis is not None and named[nm] != edge_axis) == edges]
+                if not some:
+                    continue
+                sides, names = zip(*some)
+                key = ("on_edge" if edges else "on_face") + ("" if len(some) == 1 else "s")
+                flat.append(spec(key, sides=_join(sides), parent=self.say(ppart),
+                                 faces=_join(names)))
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
