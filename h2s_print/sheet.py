@@ -104,9 +104,9 @@ ARROW_MM = 12.0
 #: Where no arrow from the middle finds its label room off the finished drawing, arrows moved
 #: along the frame's edge are tried, by these multiples of ARROW_SHIFT_MM, nearest first.
 ARROW_SHIFT_MM = 8.0
+ARROW_SHIFTS = tuple(k for j in range(1, 16) for k in (j, -j))
 #: A label within this much of its place beside its arrow reads as the arrow's (mm).
 LABEL_NEAR_MM = 12.0
-ARROW_SHIFTS = tuple(k for j in range(1, 16) for k in (j, -j))
 
 
 def _shaft_near(exit_: Any, segs: np.ndarray, clear: float) -> bool:
@@ -612,12 +612,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # an arrow toward parallels may point either way: the way whose label finds room off
         # the drawing, and whose arrow is not inside it, first (the roller's "vertical edges"
         # label sat where its front face is drawn, a read-through of stop 27)
-        exits = [exit_]
-        if vp.at_infinity:
-            flipped = edge_exit(plan.camera, ways[1], inset_mm=m + 2.0, origin_mm=origin)
-            if flipped is not None and not (len(ground) and _shaft_near(flipped, ground,
-                                                                         ARROW_CLEAR_MM)):
-                exits.append(flipped)
+        exits = [exit_] + [x for way in ways[1:] if (x := shifted(way, 0)) is not None]
         # then, each way, arrows moved along the frame's edge (across the ray; each still
         # points at its vanishing point): the arrow toward parallels at the sheet's middle lay
         # in the drawing of any object drawn there top to bottom (the bottle's lid, the oven),
@@ -627,7 +622,6 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         exits += [x for k in ARROW_SHIFTS for way in ways
                   if (x := shifted(way, k, across=across)) is not None]
         chosen = None
-        tried_first = False  # the first way's label tried off the drawing already
         # the label off the drawing; else off its lines only (the train fills its frame: the
         # arrow toward its left vanishing point sat in the chimney), the arrow never inside
         # it here (only the fallback below, where no arrow finds room, may put it there)
@@ -636,12 +630,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # bottle's "vanishing point below" 47 mm from its arrow, read as naming a tick)
         for avoid, inside in ((area, hull), (shadow, footprint)):
             for within in ((LABEL_NEAR_MM, None) if labels_near else (None,)):
-                for i, ex in enumerate(exits):
+                for ex in exits:
                     arrow, block, vertical = labelled(ex)
                     ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
                     if len(hull) >= 3 and _in_convex_all(hull, ends).any():
                         continue
-                    tried_first = tried_first or (i == 0 and inside is hull and within is None)
                     placed = _clear_of_texts(block, [*items, *arrow], frame, vertical, avoid,
                                              inside, within)
                     if placed is not None:
@@ -656,11 +649,15 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             continue
         arrow, block, vertical = labelled(exits[0])
         items += arrow
-        placed = (None if tried_first
-                  else _clear_of_texts(block, items, frame, vertical, area, hull))
-        if placed is None:  # no room off the drawing: at least off its lines, and never in
-            # the printed first box's footprint, where the first box is drawn (the desk's)
-            placed = _clear_of_texts(block, items, frame, vertical, shadow, footprint)
+        # the loop above tried this arrow's label off the drawing, and off its lines, unless
+        # the arrow lies inside the drawing
+        ends = np.array([q for a in arrow for q in a.points_mm], dtype=float)
+        placed = None
+        if len(hull) >= 3 and _in_convex_all(hull, ends).any():
+            placed = _clear_of_texts(block, items, frame, vertical, area, hull)
+            if placed is None:  # no room off the drawing: at least off its lines, and never
+                # in the printed first box's footprint, where the first box is drawn (the desk's)
+                placed = _clear_of_texts(block, items, frame, vertical, shadow, footprint)
         if placed is None:  # nor that: at least clear of the other labels
             placed = _clear_of_texts(block, items, frame, vertical, None, footprint)
         items += placed or block
@@ -753,11 +750,9 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
     # camera's high-right sheet: seven pairs of the side points left none for the one below).
     far: list[tuple[Any, Pt, str, list[float], list[float], float]] = []
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
-        if vp.at_infinity or vp.xy_mm is None:
+        if not _off_frame(vp, frame):  # at infinity, or on the sheet: a ruler reaches it
             continue
         v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
-        if frame[0] <= v[0] <= frame[2] and frame[1] <= v[1] <= frame[3]:
-            continue  # on the sheet: a ruler reaches it
         lo, hi = _seen_span(np.asarray(v), np.asarray(corners, dtype=float))
         first = [lo + (k + 0.5) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS)]
         between = [lo + (k + 1) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS - 1)]
@@ -859,14 +854,22 @@ def _tick_pair(v: Pt, angle: float, reach: float, frame: Box2, corners: Sequence
     return made
 
 
+def _off_frame(vp: Any, frame: Box2) -> bool:
+    """Is the vanishing point ``vp`` a point (not at infinity) off the frame, where the frame
+    gets ticks toward it (:func:`vp_ticks`)?"""
+    if vp.at_infinity or vp.xy_mm is None:
+        return False
+    x, y = float(vp.xy_mm[0]), float(vp.xy_mm[1])
+    return not (frame[0] <= x <= frame[2] and frame[1] <= y <= frame[3])
+
+
 def _unticked(plan: ViewPlan, frame: Box2, ticks: Sequence[Item]) -> bool:
     """Does a vanishing point off the frame (not at infinity) have no tick (:func:`vp_ticks`)
     among ``ticks``?"""
     w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
     centre = (w / 2, h / 2)
     want = {_t(f"sheet.tick_names.{vp_side(vp, centre)}") for vp in plan.vanishing_points
-            if not vp.at_infinity and vp.xy_mm is not None
-            and not (frame[0] <= vp.xy_mm[0] <= frame[2] and frame[1] <= vp.xy_mm[1] <= frame[3])}
+            if _off_frame(vp, frame)}
     have = {it.string.rstrip("0123456789") for it in ticks
             if isinstance(it, Text) and it.role == "vp_tick_label"}
     return not want <= have

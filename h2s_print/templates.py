@@ -50,13 +50,13 @@ def _folder() -> Path:
 #: translator's ``{prat}``), refused when the file is read rather than mid-build.
 FIELDS: dict[str, frozenset[str]] = {
     "steps": frozenset((
-        "Part", "Parts", "about", "amount", "counts", "dim", "dims", "edge", "edges", "end",
-        "face", "faces", "first", "fraction", "half", "hi", "index", "kind", "label", "line",
-        "line2", "lines", "lines2", "lo", "n", "new", "nth", "other2", "point2", "other", "parent", "part", "parts", "point",
-        "beyond", "near", "points", "position", "pside", "psides", "directions", "reused", "second", "shape", "shift", "side", "sides", "small", "large", "start",
-        "step", "text", "the_other", "the_parent", "the_parents", "the_part", "through", "total",
-        "turns",
-        "vp", "vp2", "where", "words")),
+        "Part", "Parts", "about", "amount", "beyond", "counts", "dim", "dims", "directions",
+        "edge", "edges", "end", "face", "faces", "first", "fraction", "half", "hi", "index",
+        "kind", "label", "large", "line", "line2", "lines", "lines2", "lo", "n", "near", "new",
+        "nth", "other", "other2", "parent", "part", "parts", "point", "point2", "points",
+        "position", "pside", "psides", "reused", "second", "shape", "shift", "side", "sides",
+        "small", "start", "step", "text", "the_other", "the_parent", "the_parents", "the_part",
+        "through", "total", "turns", "vp", "vp2", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",
         "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part", "title",

@@ -687,9 +687,9 @@ class _Context(_Repeats, _Ellipses):
                 if ln.role not in roles:
                     continue
                 last[points_key((ln.start, ln.end), self.tol)] = (k, ln.start, ln.end)
-        on_paper = [(p, k) for k, a, b in last.values() for p in (a, b)]
-        drawn = [(a, b, k) for k, a, b in last.values()]  # and every point on them
-        # the sheet's floor line, kept while a step stands a part on the floor
+        drawn = [(a, b, k) for k, a, b in last.values()]  # every point on them, ends too
+        # the sheet's floor line's ends, kept while a step stands a part on the floor
+        on_paper: list[tuple[Vec3, int]] = []
         start, until = _floor_span(drafts)
         if start is not None and until > start:
             lines = _first_lines(drafts[start].strokes, self.camera, self.floor_z(False))
@@ -757,7 +757,7 @@ class _Context(_Repeats, _Ellipses):
             if _on_face(anchor, parent.box, cand.box, self.tol):  # the face itself is the guide
                 on_faces.setdefault(parent.part, []).append(
                     (words.side(anchor.axis, anchor.end),
-                     words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi")))
+                     words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi"), anchor.axis))
                 continue
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
@@ -769,10 +769,9 @@ class _Context(_Repeats, _Ellipses):
             # part 1's right, left and bottom faces" of the IVAR box's flat base)
             pprim = self.plan.primitive(ppart)
             edge_axis = pprim.axis if pprim.type == "plane" else None
-            named = {words.face(a, e): a for a in range(3) for e in ("lo", "hi")}
             for edges in (True, False):
-                some = [(sd, nm) for sd, nm in pairs
-                        if (edge_axis is not None and named[nm] != edge_axis) == edges]
+                some = [(sd, nm) for sd, nm, ax in pairs
+                        if (edge_axis is not None and ax != edge_axis) == edges]
                 if not some:
                     continue
                 sides, names = zip(*some)
