@@ -1036,9 +1036,13 @@ def _centred_lines_said(steps) -> list[str]:
             if not m or m.group(3):
                 continue
             k, l_ = m.group(1), m.group(2)
+
+            def word(w: str) -> str:  # a letter, primed or not, as a whole word ("D'E'")
+                return rf"(?<![A-Za-z']){w}(?![A-Za-z'])"
+
             named = [x for x in s.substeps[:i]
-                     if re.search(rf"\b({k}{l_}|{l_}{k})\b", x)
-                     or (re.search(rf"\b{k}\b", x) and re.search(rf"\b{l_}\b", x))
+                     if re.search(word(f"({k}{l_}|{l_}{k})"), x)
+                     or (re.search(word(k), x) and re.search(word(l_), x))
                      or re.match(r"Use the lines (carried|extended) in step \d+ for its .*middle", x)]
             if not named:
                 bad.append(f"step {s.index}: {sub}")

@@ -2345,10 +2345,13 @@ def test_a_part_no_anchor_places_along_an_axis_is_placed_as_pictured(examples):
     27: the roller's ferrule, "its height by eye", said nowhere how high it sits)."""
     from h2s_print.templates import lookup
 
-    # "Draw the box on these lines, as pictured; ..." (carries say "as pictured" of a length)
+    # "Draw the box on these lines, as pictured[; ...]" (carries say "as pictured" of a
+    # length); with no size by eye too (the train's wagon, its length a ratio of the
+    # engine's, its place along the engine said nowhere)
     placed = re.compile("|".join(re.escape(lookup("steps", f"substep.{k}")).replace(
         r"\{shape\}", ".+").replace(r"\{dims\}", ".+")
-        for k in ("place_by_eye_where", "place_by_eye_there_where")))
+        for k in ("place_by_eye_where", "place_by_eye_there_where", "place_where",
+                  "place_there_where")))
     checked = 0
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()

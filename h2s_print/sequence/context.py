@@ -1042,7 +1042,8 @@ class _Context(_Repeats, _Ellipses):
         if unplaced:  # "as pictured" where the step has room left for it: it never splits a
             # step (packing counts the closing without it) nor displaces a size sentence
             pictured = [spec(x.key + unplaced, x.same, x.pair, **dict(x.fields))
-                        if x.key == "place_by_eye" + there else x for x in specs]
+                        if x.key in ("place" + there, "place_by_eye" + there) else x
+                        for x in specs]
             if self.fits_levels(pictured, head):
                 specs = pictured
         subs = self.lettered(specs)
