@@ -28,8 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from h2s_print.candidates import generate_candidates  # noqa: E402
 from h2s_print.config import SolverSettings  # noqa: E402
 from h2s_print.relate import detect_relations  # noqa: E402
-from h2s_print.select import (_Cycle, build_selection_model, select_candidates,  # noqa: E402
-                              solve_selection_model)
+from h2s_print.select import build_selection_model, solve_selection_model  # noqa: E402
 from h2s_print.types import Primitive  # noqa: E402
 
 EASY_LO = (0.0, 0.25, 1 / 3, 0.5)
@@ -114,11 +113,7 @@ def run(sizes: list[int], seed: int, time_limit: float) -> None:
             t1 = time.perf_counter()
             model = build_selection_model(cands, rels, s)
             build_s = time.perf_counter() - t1
-            try:
-                sel = solve_selection_model(model)
-            except _Cycle:  # as select_candidates does (cut the cyclic selection off, ...)
-                sel = select_candidates(cands, rels, s)
-                form += "*"
+            sel = solve_selection_model(model)
             known = {**by_id, **{c.id: c for c in sel.stand_ins}}
             anchored = sum(1 for i in sel.chosen if known[i].anchors)
             print(f"{label:>8} {n:>5} {len(rels):>4}({n_pres:>3}) {len(cands):>6} {gen_s:>6.2f} {form:>11} "

@@ -7,18 +7,22 @@ One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
    replaced by another candidate of its part with exactly the same intervals along every axis
    the child anchors off it (:func:`substitutes`), because an anchor ties the child only to
    the parent's interval along that axis.  A stand-in never descends from a candidate of
-   the child's own part; if the stand-ins chosen still close a cycle, that selection is cut
-   off and the model solved again (up to :data:`CYCLE_RETRIES` times; the answer is then the
-   optimum over the selections left), and after that again with stand-ins no deeper than the
-   parent they stand in for (depth then falls strictly along every parent link: acyclic by
-   construction, and optimal for that formulation).  Two optimal selections of equal cost
-   may differ in whether their stand-ins close a cycle, so without the cut the answer
-   depended on which one SCIP met first (the train: 46.37 with the linear rows, 51.82 after a
-   shallow re-solve with the quadratic ones).  The
+   the child's own part, and the parts hang off each other without a cycle: a selected
+   candidate hangs off its parents' *parts* whichever candidates stand in, so one order
+   variable per part (``u``, continuous in ``[0, m - 1]``, ``m`` the parts of its strongly
+   connected component of the part graph) and one row per edge ``A -> B`` of that graph,
+   ``u(A) - u(B) >= 1 - m (1 - Σ χ(c))`` over the candidates ``c`` of ``A`` hanging off ``B``,
+   make every selection acyclic (a topological order exists exactly when the graph of the
+   selected parts' links has no cycle).  Only edges inside a strongly connected component can
+   close a cycle; the others get no row.  Until stop 29 a selection whose stand-ins closed a
+   cycle was cut off and the model solved again, four times, and then with stand-ins no
+   deeper than the parent they stand in for: the train's eight wheels (equal-cost mirror
+   selections) used all four cuts and fell back, at twice the time.  The
    answer names the stand-ins: a selected candidate whose parent was stood in for is reported
    as a copy (id + ``*``) hanging off the stand-in (:attr:`Selection.stand_ins`), so
    plan.json's parents and ratio equations hold as written.  In the quadratic formulation a
-   parent with stand-ins is a product with their *any* binary (below).  Without stand-ins a
+   parent with stand-ins is a product with their *any* binary (below); its order rows are
+   the same linear rows.  Without stand-ins a
    part often stayed unguided because every one of its candidates hung off a version of a
    parent that was not selected.
 3. no two selected candidates break a preserved relation of their parts
@@ -72,7 +76,10 @@ import math
 from dataclasses import dataclass, field
 from typing import Any, Mapping, Sequence
 
+import numpy as np
 from pyscipopt import Model, quicksum
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import connected_components
 
 from .candidates import Candidate, preserved_relations, relation_holds, relation_holds_table
 from .config import FORMULATIONS, SolverSettings
@@ -209,15 +216,12 @@ def _check(candidates: Sequence[Candidate], relations: Sequence[Relation],
 
 
 def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[Relation],
-                          settings: SolverSettings, *, shallow: bool = False,
-                          exclude: Sequence[Sequence[str]] = (),
-                          hint: Sequence[str] = (),
+                          settings: SolverSettings, *, hint: Sequence[str] = (),
                           farness: Mapping[str, float] | None = None) -> SelectionModel:
-    """Build (do not solve) the SCIP model for ``settings.formulation``; ``shallow`` limits
-    stand-ins to candidates no deeper than the parent (module docstring); each selection in
-    ``exclude`` (candidate ids) is cut off; ``hint``, a selection (candidate ids, one per
-    part), is handed to SCIP as a start solution besides the all-originals one when it is
-    one; ``farness`` (part -> [0, 1]) breaks ties nearest first (module docstring).
+    """Build (do not solve) the SCIP model for ``settings.formulation``; ``hint``, a selection
+    (candidate ids, one per part), is handed to SCIP as a start solution besides the
+    all-originals one when it is one; ``farness`` (part -> [0, 1]) breaks ties nearest first
+    (module docstring).
 
     Raises:
         SelectionError: unknown formulation, duplicate ids, dangling parents.
@@ -257,7 +261,7 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
 
     # (2) parents selected with their children: the parent itself or a candidate of its part
     # with the same intervals along the axes the child anchors off it (module docstring)
-    subs = substitutes(cands, shallow=shallow)
+    subs = substitutes(cands)
     for c in cands:
         for p in c.parents:
             name = f"parent[{c.id}|{p}]"
@@ -287,9 +291,15 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
                 scip.addCons(quicksum(pick[i] for i in group) + quicksum(pick[j] for j in bad)
                              <= 1, name=f"keep[{tag}|{group[0]}]")
             n += 1
-    # (4) selections whose stand-ins closed a cycle, cut off (select_candidates)
-    for k, sel in enumerate(exclude):
-        scip.addCons(quicksum(pick[i] for i in sel) <= len(sel) - 1, name=f"cycle[{k}]")
+    # (4) no cycle of parts hanging off each other (module docstring)
+    cyclic = _cyclic_edges(cands)
+    order: dict[str, Any] = {}
+    for (a, b), (m, users) in sorted(cyclic.items()):
+        for part in (a, b):
+            if part not in order:
+                order[part] = scip.addVar(name=f"order[{part}]", vtype="C", lb=0.0, ub=m - 1)
+        scip.addCons(order[a] - order[b] - m * quicksum(pick[i] for i in users) >= 1 - m,
+                     name=f"order[{a}|{b}]")
         n += 1
     ties = tie_breaks(cands, farness or {})
     scip.setObjective(quicksum((costs[c.id] + ties[c.id]) * pick[c.id] for c in cands),
@@ -303,6 +313,12 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
             scip.setSolVal(sol, pick[c.id], 1.0 if c.id in chosen else 0.0)
         for group, var in anys.items():
             scip.setSolVal(sol, var, 1.0 if chosen.intersection(group) else 0.0)
+        rank = _rank(cyclic, chosen)
+        if rank is None:
+            scip.freeSol(sol)
+            return False
+        for part, var in order.items():
+            scip.setSolVal(sol, var, float(rank[part]))
         if not scip.checkSol(sol):
             scip.freeSol(sol)
             return False
@@ -314,11 +330,70 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
         if not offer(start):  # a bug in the rows above, never the input's fault
             log.warning("the all-originals start is not a solution of the selection model")
     if hint and all(i in pick for i in hint):
-        offer(hint)  # an earlier selection (plan.choose); with shallow stand-ins it may not be
+        offer(hint)  # an earlier selection (plan.choose)
     return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
-                          start=start, n_constraints=n, n_vars=len(pick) + len(anys),
+                          start=start, n_constraints=n,
+                          n_vars=len(pick) + len(anys),
                           settings=settings,
                           candidates=tuple(cands), subs=subs)
+
+
+def _cyclic_edges(cands: Sequence[Candidate]) -> dict[tuple[str, str], tuple[int, tuple[str, ...]]]:
+    """The edges ``(A, B)`` of the part graph (a candidate of ``A`` hangs off a candidate of
+    ``B``) that lie in a strongly connected component, each with that component's size and
+    the candidates of ``A`` hanging off ``B`` (sorted): the edges that could close a cycle."""
+    part_of = {c.id: c.part for c in cands}
+    users: dict[tuple[str, str], list[str]] = {}
+    for c in cands:
+        for b in sorted({part_of[p] for p in c.parents}):
+            users.setdefault((c.part, b), []).append(c.id)
+    parts = sorted({c.part for c in cands})
+    index = {p: i for i, p in enumerate(parts)}
+    if not users:
+        return {}
+    rows, cols = zip(*((index[a], index[b]) for a, b in users))
+    graph = csr_matrix((np.ones(len(rows)), (rows, cols)), shape=(len(parts), len(parts)))
+    _, label = connected_components(graph, directed=True, connection="strong")
+    size = np.bincount(label)
+    return {(a, b): (int(size[label[index[a]]]), tuple(sorted(ids)))
+            for (a, b), ids in users.items() if label[index[a]] == label[index[b]]}
+
+
+def _rank(cyclic: Mapping[tuple[str, str], tuple[int, Sequence[str]]],
+          chosen: set[str]) -> dict[str, int] | None:
+    """Order values for a selection (candidate ids ``chosen``) that satisfy the order rows of
+    ``cyclic`` (:func:`_cyclic_edges`): per part, the longest chain of selected links inside
+    its component below it; None when those links close a cycle."""
+    below: dict[str, list[str]] = {}
+    for (a, b), (_, users) in cyclic.items():
+        below.setdefault(a, [])
+        below.setdefault(b, [])
+        if chosen.intersection(users):
+            below[a].append(b)
+    rank: dict[str, int] = {}
+    visiting: set[str] = set()
+
+    def walk(part: str) -> bool:
+        stack = [(part, iter(below[part]))]
+        visiting.add(part)
+        while stack:
+            node, it = stack[-1]
+            nxt = next(it, None)
+            if nxt is None:
+                stack.pop()
+                visiting.discard(node)
+                rank[node] = 1 + max((rank[x] for x in below[node]), default=-1)
+            elif nxt in visiting:
+                return False
+            elif nxt not in rank:
+                visiting.add(nxt)
+                stack.append((nxt, iter(below[nxt])))
+        return True
+
+    for part in sorted(below):
+        if part not in rank and not walk(part):
+            return None
+    return rank
 
 
 #: SCIP's nonlinear handlers the quadratic formulation turns off (:func:`solve_selection_model`).
@@ -405,16 +480,15 @@ def tie_breaks(cands: Sequence[Candidate], farness: Mapping[str, float]) -> dict
     return out
 
 
-def substitutes(cands: Sequence[Candidate], *, shallow: bool = False
-                ) -> dict[tuple[str, str], tuple[str, ...]]:
+def substitutes(cands: Sequence[Candidate]) -> dict[tuple[str, str], tuple[str, ...]]:
     """For each (candidate, parent): the candidates that may stand in for the parent.
 
     An anchor ties the child to the parent's interval along the anchored axis, never to its
     other axes; so any candidate of the parent's part with exactly the same intervals along
     every axis the child anchors off that parent keeps every anchor's ratio equation (and the
     construction, on the stand-in's face).  A stand-in never descends from a candidate of
-    the child's own part; with ``shallow`` it is also at most as deep as the parent
-    (acyclicity, module docstring).  A parent the child does not anchor off (a
+    the child's own part (the order rows keep the rest acyclic, module docstring).  A
+    parent the child does not anchor off (a
     relation-restoring parent) has no stand-in.
     """
     by_id = {c.id: c for c in cands}
@@ -444,8 +518,7 @@ def substitutes(cands: Sequence[Candidate], *, shallow: bool = False
             key = tuple((by_id[p].box[0][a], by_id[p].box[1][a]) for a in axes)
             out[c.id, p] = tuple(sorted(
                 q for q in table[key]
-                if q == p or (c.part not in ancestors[q]
-                              and (not shallow or by_id[q].depth <= by_id[p].depth))))
+                if q == p or c.part not in ancestors[q]))
     return out
 
 
@@ -488,14 +561,13 @@ def _stand_in(cands: Sequence[Candidate], subs: dict[tuple[str, str], tuple[str,
                 copies.append(new)
             todo.remove(part)
             progressed = True
-        if not progressed:
-            raise _Cycle(sorted(todo), chosen)
+        if not progressed:  # the order rows forbid it: a bug, never the input's fault
+            raise SelectionError(f"the anchoring graph has a cycle among {sorted(todo)}")
     return tuple(sorted(x.id for x in final.values())), tuple(sorted(copies, key=lambda c: c.id))
 
 
 def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relation],
-                      settings: SolverSettings, *, shallow: bool = False,
-                      hint: Sequence[str] = (),
+                      settings: SolverSettings, *, hint: Sequence[str] = (),
                       farness: Mapping[str, float] | None = None) -> Selection:
     """Choose one candidate per part: valid (eq. 1-3) and of least weighted cost.
 
@@ -503,6 +575,7 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
         candidates: every candidate (``generate_candidates``), originals included.
         relations: all relations; those with ``detail["preserved"]`` must be kept.
         settings: ``formulation``, ``time_limit_s``, weights, ``max_change`` (reported).
+        hint: an earlier selection, handed to SCIP as a start (``plan.choose``).
         farness: part -> [0, 1], ties nearest first (module docstring); none without.
 
     Returns:
@@ -511,36 +584,5 @@ def select_candidates(candidates: Sequence[Candidate], relations: Sequence[Relat
     Raises:
         SelectionError: bad input or no valid selection found.
     """
-    exclude: list[tuple[str, ...]] = []
-    for _ in range(0 if shallow else CYCLE_RETRIES):
-        try:
-            return solve_selection_model(build_selection_model(candidates, relations, settings,
-                                                               exclude=exclude, hint=hint,
-                                                               farness=farness))
-        except _Cycle as cycle:
-            # the selection's stand-ins closed a cycle: cut that selection off, solve again
-            log.info("stand-ins closed a cycle among %s; that selection is cut off",
-                     ", ".join(cycle.parts))
-            exclude.append(cycle.chosen)
-    # still cycles: stand-ins never deeper than the parent they stand in for (acyclic by
-    # construction; optimal for that formulation)
-    if not shallow:
-        log.info("stand-ins closed a cycle %d times; solving with shallow stand-ins",
-                 CYCLE_RETRIES)
     return solve_selection_model(build_selection_model(candidates, relations, settings,
-                                                       shallow=True, hint=hint,
-                                                       farness=farness))
-
-
-#: Selections whose stand-ins closed a cycle cut off before falling back to shallow stand-ins.
-CYCLE_RETRIES = 4
-
-
-class _Cycle(SelectionError):
-    """Stand-ins closed a cycle in the anchoring graph (internal: :func:`select_candidates`
-    excludes that selection and solves again)."""
-
-    def __init__(self, parts: Sequence[str], chosen: Sequence[str] = ()):
-        super().__init__(f"the anchoring graph has a cycle among {list(parts)}")
-        self.parts = tuple(parts)
-        self.chosen = tuple(chosen)
+                                                       hint=hint, farness=farness))

@@ -1427,16 +1427,14 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
                 assert abs(mine - theirs) <= tol + 1e-9, (name, part, other, pos)
                 checked += 1
     assert checked >= 3
-    t, plan, views = examples["mixer"]
-    column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
-    assert "Centre it left to right on the base." in column.substeps
-    assert "Line up its back and bottom with the base's back and top." in column.substeps
-    # the train's wagon has the engine's front and back (and top): said as faces in line, not
-    # as a common middle (the second read-through: "extend the engine's long edges")
+    # (the mixer's column and the train's wagon were the examples here until stop 29, when
+    # the selection came to anchor both: the column on the base, the wagon off the engine)
+    t, plan, views = examples["roller"]
+    arm = next(s for s in views[("front-left", "novice")].steps if s.part == "frame_arm")
+    assert "Centre it front to back on the roller." in arm.substeps, arm.substeps
     t, plan, views = examples["train"]
-    wagon = next(s for s in views[("front-left", "novice")].steps if s.part == "wagon")
-    assert "Line up its back, front and top with the engine's back, front and top." in \
-        wagon.substeps, wagon.substeps
+    wheel = next(s for s in views[("front-left", "novice")].steps if s.part == "wheel_1")
+    assert "Line up its back with the engine's front." in wheel.substeps, wheel.substeps
     # a placed part's axes without an anchor get the same, and only those axes
     t, plan, views = examples["camera"]
     button = next(s for s in views[("front-left", "novice")].steps if s.part == "shutter_button"
