@@ -2633,7 +2633,7 @@ def test_a_flat_rectangles_sides_are_its_edges(shared_models):
     t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
                       / "box_ivar.yaml")
     plan = build_plan(t.model, t.solver, t.views)
-    checked = 0
+    checked = plain = 0
     for view in t.views:
         vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
         flat = {}  # a flat part's name -> the face words across its plane (its edges)
@@ -2650,8 +2650,15 @@ def test_a_flat_rectangles_sides_are_its_edges(shared_models):
                     continue
                 named = re.split(r", | and ", m.group(2))
                 across = [w for w in named if w in flat[m.group(1)]]
+                assert across, x  # a face along its plane is not named a face
                 assert (m.group(3).startswith("edge") if across else
                         m.group(3).startswith("face")), x
                 assert not across or len(across) == len(named), x
                 checked += 1
-    assert checked >= 2
+            # its faces along its plane are the rectangle itself: "Its bottom lies on part 1."
+            # (was "on part 1's bottom face": a rectangle has no bottom face to find)
+            for x in s.substeps:
+                m = re.fullmatch(r"Its .+ lies? on (.+?)\.", x)
+                if m is not None and m.group(1) in flat:
+                    plain += 1
+    assert checked >= 2 and plain >= 2

@@ -766,18 +766,20 @@ class _Context(_Repeats, _Ellipses):
             built.append((anchor, parent.part, face, con, own, carry))
         for ppart, pairs in on_faces.items():  # said once per parent
             # a flat rectangle's "face" across its plane is an edge (a read-through: "lie on
-            # part 1's right, left and bottom faces" of the IVAR box's flat base)
+            # part 1's right, left and bottom faces" of the IVAR box's flat base), and its
+            # face along its plane is the rectangle itself ("Its bottom lies on part 1.", not
+            # "on part 1's bottom face": a rectangle has no bottom face to find)
             pprim = self.plan.primitive(ppart)
             edge_axis = pprim.axis if pprim.type == "plane" else None
-            for edges in (True, False):
+            for kind in ("on_edge", "on_plane", "on_face"):
                 some = [(sd, nm) for sd, nm, ax in pairs
-                        if (edge_axis is not None and ax != edge_axis) == edges]
+                        if kind == ("on_face" if edge_axis is None
+                                    else "on_plane" if ax == edge_axis else "on_edge")]
                 if not some:
                     continue
                 sides, names = zip(*some)
-                key = ("on_edge" if edges else "on_face") + ("" if len(some) == 1 else "s")
-                flat.append(spec(key, sides=_join(sides), parent=self.say(ppart),
-                                 faces=_join(names)))
+                flat.append(spec(kind + ("" if len(some) == 1 else "s"), sides=_join(sides),
+                                 parent=self.say(ppart), faces=_join(names)))
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
