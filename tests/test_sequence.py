@@ -2662,3 +2662,31 @@ def test_a_flat_rectangles_sides_are_its_edges(shared_models):
                 if m is not None and m.group(1) in flat:
                     plain += 1
     assert checked >= 2 and plain >= 2
+
+
+def test_a_flat_first_part_is_its_footprint(shared_models, examples):
+    """The first part is drawn on the footprint the sheet prints; a flat one (no height: the
+    IVAR box's base) *is* that footprint, whose edges are gone over, where a box has a bottom
+    on it and edges to draw up (the box's sentences asked for a box that was not there)."""
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+    from h2s_print.templates import lookup
+
+    def first(vp):
+        return next(s for s in vp.steps if s.kind == "primitive")
+
+    flat_words = [lookup("steps", f"substep.{k}") for k in ("first_footprint_flat",
+                                                             "first_edges_flat")]
+    box_words = [lookup("steps", f"substep.{k}") for k in ("first_footprint", "first_edges")]
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
+                      / "box_ivar.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    for view in t.views:
+        step = first(seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
+        assert plan.primitive(step.part).type == "plane"  # flat
+        assert all(w in step.substeps for w in flat_words), step.substeps
+        assert not any(w in step.substeps for w in box_words), step.substeps
+    for name, (t, plan, views) in examples.items():
+        step = first(views[(t.views[0].name, "novice")])
+        assert all(w in step.substeps for w in box_words), (name, step.substeps)

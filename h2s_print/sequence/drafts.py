@@ -49,11 +49,14 @@ def _first_lines(strokes: Sequence[Stroke], camera: Camera,
 def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
     """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
     (printed on the sheet too) when it has a height, the floor below it when it stands above
-    the floor, then its edges and the paper corners."""
+    the floor, then its edges and the paper corners.  A flat first part (no height: the IVAR
+    box's base) *is* its footprint, whose edges are gone over ("Its bottom is the blue
+    footprint" then "Draw its edges" asked for a box the footprint already is)."""
     tall = lines is not None and lines.height is not None
     floor = lines is not None and lines.floor is not None
-    return [spec("first_footprint"), *([spec("first_height")] if tall else []),
-            *([spec("first_floor")] if floor else []), spec("first_edges"),
+    flat = "" if tall or lines is None else "_flat"
+    return [spec("first_footprint" + flat), *([spec("first_height")] if tall else []),
+            *([spec("first_floor")] if floor else []), spec("first_edges" + flat),
             spec("first_corners")]
 
 
