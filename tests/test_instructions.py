@@ -1239,3 +1239,27 @@ def test_a_copy_right_over_its_original_says_which_way_it_lies(shared_models):
 def _inside(p, box) -> bool:
     lo, hi = (np.asarray(x, float) for x in box)
     return bool(np.all(np.asarray(p) >= lo - 1e-9) and np.all(np.asarray(p) <= hi + 1e-9))
+
+
+def test_both_ends_extended_alike_are_said_once(examples):
+    # The mixer's master bowl said "its right side half a column width beyond the column's
+    # right side, its left side half a column width beyond the column's left side": 75 words,
+    # over the limit.  Both ends of an axis extended alike beyond one parent read as one
+    # phrase, and every master step of the examples stays within the word limit.
+    t, plan, views = examples["mixer"]
+    bowl = plan.chosen()["bowl"]
+    x = sorted((a.end, a.ratio, plan_part(plan, a.parent)) for a in bowl.anchors if a.axis == 0)
+    assert x == [("hi", 1.5, "column"), ("lo", -0.5, "column")]
+    step = next(s for s in views[("front-left", "master")].steps if s.part == "bowl")
+    assert "Its width the column's, with half a column width more on each side" in step.text
+    assert "right side half" not in step.text
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level == "master":
+                assert all(len(s.text.split()) <= seq_drafts.MAX_STEP_WORDS for s in vp.steps), (
+                    name, view, [s.text for s in vp.steps
+                                 if len(s.text.split()) > seq_drafts.MAX_STEP_WORDS])
+
+
+def plan_part(plan, cid):
+    return next(c.part for c in plan.candidates if c.id == cid)

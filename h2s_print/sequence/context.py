@@ -90,6 +90,7 @@ from .words import (
     _join,
     _plural,
     _position,
+    _ratio_phrases,
     _ratio_words,
     _raw,
     _substep,
@@ -801,8 +802,8 @@ class _Context(_Repeats, _Ellipses):
         # what the anchors place, then what the part lines up with on an axis none places
         # (a master read nothing of the shutter button's "Centre it front to back")
         unguided = self.free_positions(part, drawn, cand.unguided_axes)
-        summary = _cap(_join([_ratio_words(words, a, self.say(self.by_id[a.parent].part))
-                              for a in cand.anchors]
+        summary = _cap(_join(_ratio_phrases(words, cand.anchors,
+                                            lambda a: self.say(self.by_id[a.parent].part))
                              + self.lined_up(unguided))) + "."
         if eyeball:
             specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
@@ -1026,8 +1027,8 @@ class _Context(_Repeats, _Ellipses):
             said.update(x.same for x in subs if x.same)
             self.record(group, here, described)
             gsummary = _t("substep.guides_for", words=_join(_unique(
-                _ratio_words(words, a, self.say(self.by_id[a.parent].part))
-                for u in shown for a in u.anchors)))
+                _ratio_phrases(words, [a for u in shown for a in u.anchors],
+                               lambda a: self.say(self.by_id[a.parent].part)))))
             drafts.append(_Draft(part, "guides", False, tuple(ln for u in shown for ln in u.lines),
                                  (), guides_head(shown, k + 1, len(groups) - 1), subs,
                                  gsummary))

@@ -21,7 +21,7 @@ from .geometry import (
     _scaffold,
     _too_small,
 )
-from .words import _cap, _join, _ratio_words, _raw, _substep_of, _t
+from .words import _cap, _join, _ratio_phrases, _raw, _substep_of, _t
 
 #: Two parts are the same shape when their boxes' extents and mesh areas agree within this
 #: fraction (and their primitive types and triangle counts are equal): drawn as one step.
@@ -97,8 +97,8 @@ class _Repeats:
         where = {}
         for q in members:
             cand = self.chosen[q]
-            w = _join([_ratio_words(self.words, a, self.say(self.by_id[a.parent].part))
-                       for a in cand.anchors])
+            w = _join(_ratio_phrases(self.words, cand.anchors,
+                                     lambda a: self.say(self.by_id[a.parent].part)))
             short = len(w.split()) <= REPEAT_WHERE_WORDS
             where[q] = w if short and self.parents_of(q) <= keep else ""
         if len(set(where.values())) > 1:

@@ -173,6 +173,36 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
 
 
+def _ratio_phrases(words: _Words, anchors: Sequence[Any], name_of: Any) -> list[str]:
+    """:func:`_ratio_words` of each anchor (``name_of(anchor)``: its parent part's name, as
+    said), but both ends of an axis extended alike beyond one parent said once: "its width
+    the column's, with half a column width more on each side" (the mixer's master bowl said
+    each side apart, 75 words)."""
+    out: list[str] = []
+    done: set[int] = set()
+    for i, a in enumerate(anchors):
+        if i in done:
+            continue
+        twin = next((k for k, b in enumerate(anchors) if k > i and k not in done
+                     and b.axis == a.axis and b.parent == a.parent
+                     and {a.end, b.end} == {"lo", "hi"} and a.face_normal != a.axis
+                     and b.face_normal != b.axis
+                     and entry_for(a.ratio).extrusion and entry_for(b.ratio).extrusion
+                     and abs((a.ratio if a.end == "hi" else b.ratio) - 1.0
+                             + (b.ratio if a.end == "hi" else a.ratio)) <= 1e-9), None)
+        if twin is None:
+            out.append(_ratio_words(words, a, name_of(a)))
+            continue
+        done.add(twin)
+        lo = a if a.end == "lo" else anchors[twin]
+        entry = entry_for(lo.ratio)
+        amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1")
+                                           else "half"]
+        out.append(_t("ratio_words.extend_both", amount=amount, parent=name_of(a),
+                      dim=words.dim(a.axis)))
+    return out
+
+
 def _substep(key: str, fields: dict[str, Any]) -> str:
     """A sub-step's sentence from ``templates/steps.yaml`` (section ``substep``)."""
     return _t(f"substep.{key}", **fields)
