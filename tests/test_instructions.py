@@ -1263,3 +1263,43 @@ def test_both_ends_extended_alike_are_said_once(examples):
 
 def plan_part(plan, cid):
     return next(c.part for c in plan.candidates if c.id == cid)
+
+
+def test_an_edge_cited_says_the_side_it_places(examples):
+    # A read-through: "Use the edge DC." left the mixer's column's back to be guessed; each
+    # edge cited for a side ("Use the edges AD and AB for its left side and bottom.") lies in
+    # the plane of that side of the part's box, in 3D, at its lettered ends.
+    from h2s_print.sequence import context as seq_context
+
+    cite = re.compile(r"Use the edges? (.+) for its (.+)\.")
+    letter = r"[A-Z]'?"
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            words = seq_context._context(plan, view, t.paper, t.sequence).words
+            where = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi", "mid")}
+            for level in ("novice", "apprentice"):
+                for s in views[(view.name, level)].steps:
+                    at = {lb.name: np.asarray(lb.at3d) for lb in s.labels if lb.kind == "point"}
+                    box = np.asarray(chosen[s.part].box) if s.part else None
+                    for sub in s.substeps:
+                        m = cite.fullmatch(sub)
+                        if m is None:
+                            continue
+                        lines = re.findall(rf"({letter})({letter})", m.group(1))
+                        sides = re.split(r", | and ", m.group(2))
+                        pairs = (zip(lines, sides) if len(lines) == len(sides)
+                                 else [(ln, sd) for ln in lines for sd in sides])
+                        for (p, q), side in pairs:
+                            axis, end = where[side]
+                            plane = (box[0, axis] if end == "lo" else box[1, axis] if end == "hi"
+                                     else 0.5 * (box[0, axis] + box[1, axis]))
+                            for point in (at[p], at[q]):
+                                assert abs(point[axis] - plane) <= 1e-6 * max(
+                                    1.0, float(np.abs(box).max())), (name, view.name, sub)
+                            checked += 1
+    assert checked >= 10
+    t, plan, views = examples["mixer"]
+    column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
+    assert any(re.fullmatch(r"Use the edge [A-Z]{2} for its back\.", x) for x in column.substeps)

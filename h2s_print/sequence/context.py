@@ -54,6 +54,8 @@ from .drafts import (
     _citations,
     _Draft,
     _draws_known,
+    _edge_for,
+    _edges_together,
     _first_lines,
     _first_specs,
     _names_lines_of,
@@ -166,7 +168,7 @@ def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
 
 
 #: Citations of an edge of a drawn part.
-_EDGE_CITES = ("edge", "edge_two", "edge_for")
+_EDGE_CITES = ("edge", "edge_two", "edge_for", "edge_for_two")
 #: Citations of the lines an earlier step carried or extended (no line named).
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
@@ -625,6 +627,13 @@ class _Context(_Repeats, _Ellipses):
                     if key == "reuse_for":  # the sides were said of all its lines together
                         key = "reuse"
                         f.pop("sides")
+                    elif key == "edge_for_two":  # each line's side: said of the lines left
+                        each = [e for r, e in zip(runs, f["each"]) if r in left]
+                        key = "edge_for" if len(left) == 1 else key
+                        f["sides"] = _join(each)
+                        f["each"] = tuple(each)
+                        if len(left) == 1:
+                            f.pop("each")
                     s = spec(key, s.same, s.pair, **f)
             out.append(s)
         return out
@@ -1036,9 +1045,14 @@ class _Context(_Repeats, _Ellipses):
         here = step + len(groups) - 1
         before = [u for g in groups[:-1] for u in g]
         moved = _carried(groups[:-1])
-        own = [x for u in last for x in u.specs if not (x.same and x.same in said)
-               and not (x.key == "reuse" and tuple(dict(x.fields)["line"].points) in moved)]
-        mine = _citations(groups[:-1], step, self.anchor_side) + own
+        owned = [(u, x) for u in last for x in u.specs if not (x.same and x.same in said)
+                 and not (x.key == "reuse" and tuple(dict(x.fields)["line"].points) in moved)]
+        own = [x for _, x in owned]
+        # an edge the placing step cites says what it places too ("Use the edge DC for its
+        # back."), as a line from a guides step does
+        own_for = _edges_together([_edge_for(x, u.anchors, self.anchor_side, cand.box)
+                                   if x.key == "edge" else x for u, x in owned])
+        mine = _citations(groups[:-1], step, self.anchor_side, cand.box) + own_for
         if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
             mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
         specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes)

@@ -19,7 +19,7 @@ MAX_STEP_WORDS = 70
 
 
 #: Sub-steps that only point at lines already drawn (:meth:`_Context.uncited`).
-_CITES = ("reuse", "reuse_for", "edge", "edge_two", "edge_for")
+_CITES = ("reuse", "reuse_for", "edge", "edge_two", "edge_for", "edge_for_two")
 
 
 @dataclass(frozen=True, slots=True)
@@ -90,13 +90,50 @@ def _sheet_guides(lines: FirstBoxLines | None, camera: Camera) -> tuple[Guide, .
     return tuple(out)
 
 
+def _in_plane(line: Sequence[Any], anchor: Any, box: Any) -> bool:
+    """Does the line (two 3D points) lie in the plane ``anchor`` puts the part's side on (its
+    end's plane of ``box``, or its mid-plane)?  Then the line places that side."""
+    ax = anchor.axis
+    lo, hi = float(box[0][ax]), float(box[1][ax])
+    at = lo if anchor.end == "lo" else hi if anchor.end == "hi" else 0.5 * (lo + hi)
+    tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+    return all(abs(float(p[ax]) - at) <= tol for p in line)
+
+
+def _edge_for(edge: Spec, anchors: Sequence[Any], side_of: Callable[[Any], str],
+              box: Any = None) -> Spec:
+    """"Use the edge DC for its back.": an edge of a drawn part cited with the sides of the
+    part it places (of ``anchors``, those whose plane the edge lies in, given the part's
+    ``box``; a read-through: the mixer's column read "Use the edge DC." and nothing said its
+    back stands on DC).  ``edge`` itself when it places none."""
+    line = dict(edge.fields)["line"]
+    said = list(dict.fromkeys(side_of(a) for a in anchors
+                              if box is None or _in_plane(line.points, a, box)))
+    return spec("edge_for", edge.same, line=line, sides=_join(said)) if said else edge
+
+
+def _edges_together(specs: Sequence[Spec]) -> list[Spec]:
+    """Edges cited for one side each said in one sentence, in order: "Use the edges AD and
+    AB for its left side and bottom." (two sentences cost four words more)."""
+    fors = [x for x in specs if x.key == "edge_for"]
+    sides = [dict(x.fields)["sides"] for x in fors]
+    if len(fors) < 2 or len(set(sides)) < len(sides) or any(
+            len(dict(x.fields)["line"].points) != 2 for x in fors):
+        return list(specs)
+    both = spec("edge_for_two", fors[0].same,
+                line=Many(tuple(dict(x.fields)["line"] for x in fors)), sides=_join(sides),
+                each=tuple(sides))  # each line's side, for a sentence that keeps only some
+    return [both if x is fors[0] else x for x in specs if x.key != "edge_for" or x is fors[0]]
+
+
 def _citations(groups: Sequence[Sequence[_Unit]], step: int,
-               side_of: Callable[[Any], str] | None = None) -> list[Spec]:
+               side_of: Callable[[Any], str] | None = None, box: Any = None) -> list[Spec]:
     """"Use KL from step 2 for its back.": every line the units of ``groups`` (the guides
     steps numbered from ``step``) draw, cited with the step that drew it (an earlier one for a
     line reused) and, with ``side_of`` (an anchor's side of the part, "back", "middle (front
     to back)"), what the lines place (a read-through: "Use MP from step 8" did not say MP is
-    the flash's back, and a reader who had just centred the lens on PQ centred the flash)."""
+    the flash's back, and a reader who had just centred the lens on PQ centred the flash).
+    With the part's ``box``, an edge places only the sides whose plane it lies in."""
     cited: dict[int, list[Pts]] = {}
     sides: dict[int, list[str]] = {}
     carried: dict[int, bool] = {}  # step -> carried (True) or only extended (False)
@@ -111,9 +148,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                 edge = next((x for x in u.specs if x.key == "edge"
                              and dict(x.fields)["line"].points == tuple(r)), None)
                 if edge is not None:
-                    said = list(dict.fromkeys(side_of(a) for a in u.anchors)) if side_of else []
-                    edges.append(spec("edge_for", line=dict(edge.fields)["line"],
-                                      sides=_join(said)) if said else edge)
+                    edges.append(_edge_for(edge, u.anchors, side_of, box) if side_of else edge)
                 else:
                     n = u.origin.get(i, step + k)
                     cited.setdefault(n, []).append(Pts(r))
@@ -124,7 +159,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                     x.key in _CARRIES and x.key != "extend_to" for x in u.specs)
                 if side_of is not None:
                     moved_sides.setdefault(step + k, []).extend(side_of(a) for a in u.carried_for)
-    out = list(edges)
+    out = _edges_together(edges)
     for n, lines in sorted(cited.items()):
         said = list(dict.fromkeys(sides.get(n, ())))
         out.append(spec("reuse_for", line=Many(tuple(lines)), step=n, sides=_join(said))
