@@ -1303,3 +1303,32 @@ def test_an_edge_cited_says_the_side_it_places(examples):
     t, plan, views = examples["mixer"]
     column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
     assert any(re.fullmatch(r"Use the edge [A-Z]{2} for its back\.", x) for x in column.substeps)
+
+
+def test_a_round_parts_other_size_is_said_the_same(examples):
+    # A read-through: the train's wheel read "Make its width about a quarter of the engine's"
+    # and nothing of its height.  A round part sized one way across its axis is said to be the
+    # same the other way, and that holds on its box (both extents across its axis equal).
+    from h2s_print.sequence import context as seq_context
+
+    said = re.compile(r"Make its (\w+) about .+, and its (\w+) the same\.")
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        words = seq_context._context(plan, t.views[0], t.paper, t.sequence).words
+        axis_of = {words.dim(a): a for a in range(3)}
+        for (view, level), vp in views.items():
+            for s in vp.steps:
+                for x in s.substeps:
+                    m = said.fullmatch(x)
+                    if m is None:
+                        continue
+                    prim, box = plan.primitive(s.part), np.asarray(plan.chosen()[s.part].box)
+                    a, b = axis_of[m.group(1)], axis_of[m.group(2)]
+                    assert prim.type in ("cylinder", "frustum") and prim.axis not in (a, b)
+                    ea, eb = box[1, a] - box[0, a], box[1, b] - box[0, b]
+                    assert abs(ea - eb) <= 0.01 * max(ea, eb), (name, s.index, x)
+                    checked += 1
+    assert checked >= 4
+    t, plan, views = examples["train"]
+    wheel = next(s for s in views[("front-left", "novice")].steps if s.part == "wheel_1")
+    assert any(said.fullmatch(x) for x in wheel.substeps), wheel.substeps

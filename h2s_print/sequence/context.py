@@ -123,6 +123,10 @@ SIZE_TOLERANCE = 0.12
 #: ... in at most this many sentences a step.
 SIZE_SENTENCES = 2
 
+#: A round part's box is square across its axis within this fraction: its other size is
+#: said to equal the one a size sentence gives (:meth:`_Context.size_specs`).
+ROUND_SIZES = 0.01
+
 
 def _easy_ratio(ratio: float) -> str | None:
     """The name of the :data:`SIZE_RATIOS` entry ``ratio`` lies within
@@ -448,6 +452,35 @@ class _Context(_Repeats, _Ellipses):
                       amount=amounts[name], parent=self.say(ref)), group)
                 for ref, name, group in self.size_ratios(part, axes, refs)]
 
+    def round_sizes(self, part: str, sizes: list[tuple[Spec, list[int]]], axes: Sequence[int]
+                    ) -> list[tuple[Spec, list[int]]] | None:
+        """``sizes`` (:meth:`size_specs`) with a round part's other size across its axis said
+        the same as the one a sentence gives ("Make its width about a quarter of the engine's,
+        and its height the same."; the train's wheel read a width and nothing of its height,
+        a read-through), that other size's own sentence left out; None when nothing is to
+        add (not round, neither size said, or both in one sentence)."""
+        prim, box = self.plan.primitive(part), self.chosen[part].box
+        if prim.type not in ("cylinder", "frustum") or prim.axis is None:
+            return None
+        u, v = (a for a in range(3) if a != prim.axis)
+        if abs(_extent(box, u) - _extent(box, v)) > ROUND_SIZES * max(_extent(box, u),
+                                                                     _extent(box, v)):
+            return None
+        for k, (said, group) in enumerate(sizes):
+            if said.key not in ("size", "size_many"):
+                continue
+            for mine, other in ((u, v), (v, u)):
+                if mine not in group or other in group or other not in axes:
+                    continue
+                rest = [(x, g) for x, g in sizes if other not in g or x is said]
+                if len(rest) < len(sizes) - 1 or any(
+                        other in g and len(g) > 1 for x, g in sizes if x is not said):
+                    continue  # the other size said with a third: keep that sentence
+                merged = (spec("size_round", dim=self.words.dim(other), **dict(said.fields)),
+                          sorted(group + [other]))
+                return [merged if x is said else (x, g) for x, g in rest]
+        return None
+
     def step_words(self, specs: Sequence[Spec], headline: str) -> int:
         """Words of a step's text with ``headline`` and these sub-steps, lettered and
         numbered as the page says them."""
@@ -457,17 +490,23 @@ class _Context(_Repeats, _Ellipses):
         return len(text.split())
 
     def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
-              sizes: list[tuple[Spec, list[int]]]) -> list[Spec]:
+              sizes: list[tuple[Spec, list[int]]],
+              rounded: Callable[[list[tuple[Spec, list[int]]]],
+                                list[tuple[Spec, list[int]]] | None] | None = None
+              ) -> list[Spec]:
         """``build(sizes[:n])``, the sub-steps with the most size sentences (biggest axes
         first) that keep the step within :data:`MAX_STEP_WORDS`: sizes help the eye, but
         never make a step longer than the limit or split it (they are not counted when
         constructions are packed into steps), at novice nor at apprentice, whose sub-step
         naming a construction can be longer than the novice's last line of it
-        (:func:`~h2s_print.instructions.brief_specs`)."""
+        (:func:`~h2s_print.instructions.brief_specs`).  With ``rounded`` (a round part's
+        sizes, :meth:`round_sizes`), its version of each choice is tried first."""
         for n in range(len(sizes), 0, -1):
-            specs = build(sizes[:n])
-            if self.fits_levels(specs, headline):
-                return specs
+            merged = rounded(sizes[:n]) if rounded is not None else None
+            for chosen in ([merged] if merged is not None else []) + [sizes[:n]]:
+                specs = build(chosen)
+                if self.fits_levels(specs, headline):
+                    return specs
         return build([])
 
     def fits_levels(self, specs: Sequence[Spec], headline: str) -> bool:
@@ -750,8 +789,10 @@ class _Context(_Repeats, _Ellipses):
                                 other=self.say(near[0])) if near else spec("free"))
                 return [placing, *where, *(x for x, _ in sizes), *repeat]
 
+            loose = self.loose_axes(cand)
             subs = self.lettered(self.sized(head, free, self.floor_size(part, drawn)
-                                            + self.size_specs(part, self.loose_axes(cand), refs)))
+                                            + self.size_specs(part, loose, refs),
+                                            lambda ch: self.round_sizes(part, ch, loose)))
             return [_Draft(part, "primitive", False, (), strokes, head, subs,
                            _cap(lined_up) + "." if lined_up else "")]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
@@ -823,7 +864,8 @@ class _Context(_Repeats, _Ellipses):
                 said, dims = by_eye(chosen)
                 return specs + said + ([spec("by_eye", dims=dims)] if dims else []) + list(repeat)
 
-            subs = self.lettered(self.sized(head, eyeballed, sizes))
+            subs = self.lettered(self.sized(head, eyeballed, sizes,
+                                            lambda ch: self.round_sizes(part, ch, loose)))
             return [_Draft(part, "primitive", True, (), strokes, head, subs, summary)]
         # Units of construction, one per parent face (lines shared on a face stay together).
         units: dict[tuple[str, int, str], _Unit] = {}
@@ -1055,7 +1097,8 @@ class _Context(_Repeats, _Ellipses):
         mine = _citations(groups[:-1], step, self.anchor_side, cand.box) + own_for
         if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
             mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
-        specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes)
+        specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes,
+                           lambda ch: self.round_sizes(part, ch, loose))
         if unplaced:  # "as pictured" where the step has room left for it: it never splits a
             # step (packing counts the closing without it) nor displaces a size sentence
             pictured = [spec(x.key + unplaced, x.same, x.pair, **dict(x.fields))
