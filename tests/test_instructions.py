@@ -1312,6 +1312,7 @@ def test_a_round_parts_other_size_is_said_the_same(examples):
     from h2s_print.sequence import context as seq_context
 
     said = re.compile(r"Make its (\w+) about .+, and its (\w+) the same\.")
+    same = re.compile(r"Make its (\w+) the same as its (\w+)\.")  # the other constructed
     checked = 0
     for name, (t, plan, views) in examples.items():
         words = seq_context._context(plan, t.views[0], t.paper, t.sequence).words
@@ -1319,10 +1320,13 @@ def test_a_round_parts_other_size_is_said_the_same(examples):
         for (view, level), vp in views.items():
             for s in vp.steps:
                 for x in s.substeps:
-                    m = said.fullmatch(x)
+                    m = said.fullmatch(x) or same.fullmatch(x)
                     if m is None:
                         continue
                     prim, box = plan.primitive(s.part), np.asarray(plan.chosen()[s.part].box)
+                    if same.fullmatch(x):  # the size it copies is constructed: both ends
+                        copied = axis_of[m.group(2)]
+                        assert sum(a.axis == copied for a in plan.chosen()[s.part].anchors) == 2
                     a, b = axis_of[m.group(1)], axis_of[m.group(2)]
                     assert prim.type in ("cylinder", "frustum") and prim.axis not in (a, b)
                     ea, eb = box[1, a] - box[0, a], box[1, b] - box[0, b]
@@ -1332,3 +1336,6 @@ def test_a_round_parts_other_size_is_said_the_same(examples):
     t, plan, views = examples["train"]
     wheel = next(s for s in views[("front-left", "novice")].steps if s.part == "wheel_1")
     assert any(said.fullmatch(x) for x in wheel.substeps), wheel.substeps
+    chimney = next(s for s in views[("front-left", "novice")].steps if s.part == "chimney"
+                   and s.kind == "primitive")
+    assert any(same.fullmatch(x) for x in chimney.substeps), chimney.substeps

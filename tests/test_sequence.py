@@ -649,6 +649,11 @@ def test_the_box_around_a_tapered_parent_is_drawn_only_where_a_construction_need
 # ----------------------------------------------------------------------------- guides
 
 
+#: A sub-step placing a side on a drawn part's face: resting on it ("Its bottom lies on the
+#: base's top face.") or in line with it ("Line up its top with the frame axle's top face.").
+_ON_FACE = r"Its .* lie|Line up its .+ with .+'s .+ faces?\.$"
+
+
 def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
     checked = 0
     for name, t, plan, vp in _all_views(examples):
@@ -669,7 +674,7 @@ def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
                         cand.box[0][b] < pbox[1][b] - tol and pbox[0][b] < cand.box[1][b] - tol
                         for b in range(3) if b != a.axis):
                     # the part touches the parent's face the end lies on: the face is the guide
-                    assert any(re.match(r"Its .* lie", x) for x in step.substeps), step.substeps
+                    assert any(re.match(_ON_FACE, x) for x in step.substeps), step.substeps
                     continue
                 value = pbox[0][a.axis] + a.ratio * (pbox[1][a.axis] - pbox[0][a.axis])
                 if a.end == "mid":  # the part's mid-plane, to one rounding of the halving
@@ -1357,7 +1362,7 @@ def test_edge_alignments_are_never_eyeballed(examples):
                 if _align_only(chosen[s.part]):
                     # guided by edges, or by the faces it lies on (no line needed)
                     assert not s.eyeball and (s.guides or any(
-                        re.match(r"Its .* lie", x) for x in s.substeps)), (name, s.part, s.text)
+                        re.match(_ON_FACE, x) for x in s.substeps)), (name, s.part, s.text)
                     aligned += 1
                 elif settings.eyeball_mm2 == 1e12 and any(
                         a.ratio not in (0.0, 1.0) and a.face_normal != a.axis
@@ -2690,3 +2695,41 @@ def test_a_flat_first_part_is_its_footprint(shared_models, examples):
     for name, (t, plan, views) in examples.items():
         step = first(views[(t.views[0].name, "novice")])
         assert all(w in step.substeps for w in box_words), (name, step.substeps)
+
+
+def test_a_face_on_a_parents_face_of_the_same_side_is_in_line_not_on_it(examples):
+    """"Its bottom lies on the head's bottom face" reads as resting on it; a face flush with
+    the parent's face of the same side (the oven door's sides with the body's, a
+    read-through: "lie on the base body's right face", a face hidden behind it) is "in line"
+    with it.  Each sentence's sides and faces hold on the boxes: the same plane, the same side
+    for "Line up", opposite sides for "lies on"."""
+    flush = re.compile(r"Line up its (.+) with (.+?)'s (.+) faces?\.")
+    rests = re.compile(r"Its (.+) lies? on (.+?)'s (.+) faces?\.")
+    checked = {"flush": 0, "rests": 0}
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            ctx = seq_context._context(plan, view, t.paper, t.sequence)
+            words, part_of = ctx.words, {ctx.say(p): p for p in chosen}
+            side_of = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
+            face_of = {words.face(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
+            for s in views[(view.name, "novice")].steps:
+                for x in s.substeps:
+                    for kind, rx in (("flush", flush), ("rests", rests)):
+                        m = rx.fullmatch(x)
+                        if m is None or m.group(2).removeprefix("the ") not in part_of:
+                            continue
+                        parent = part_of[m.group(2).removeprefix("the ")]
+                        sides = re.split(r", | and ", m.group(1))
+                        faces = re.split(r", | and ", m.group(3))
+                        if len(sides) != len(faces) or parent not in chosen:
+                            continue
+                        box, pbox = np.asarray(chosen[s.part].box), np.asarray(chosen[parent].box)
+                        for sd, fc in zip(sides, faces):
+                            (a, e), (pa, pe) = side_of[sd], face_of[fc]
+                            here, there = box[int(e == "hi"), a], pbox[int(pe == "hi"), pa]
+                            assert a == pa and abs(here - there) <= 1e-6 * max(
+                                1.0, float(np.abs(pbox).max())), (name, x)
+                            assert (e == pe) == (kind == "flush"), (name, view.name, x)
+                            checked[kind] += 1
+    assert checked["flush"] >= 4 and checked["rests"] >= 4, checked

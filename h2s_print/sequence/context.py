@@ -479,6 +479,17 @@ class _Context(_Repeats, _Ellipses):
                 merged = (spec("size_round", dim=self.words.dim(other), **dict(said.fields)),
                           sorted(group + [other]))
                 return [merged if x is said else (x, g) for x, g in rest]
+        # one size across its axis constructed (both ends anchored), the other by eye: the
+        # same ("Make its height the same as its width."; the camera's lens read "its depth
+        # and height by eye" under a width drawn on two lines, a read-through)
+        # (exact, where a sentence of its own compares that size with another part's)
+        for mine, other in ((u, v), (v, u)):
+            if mine in axes or other not in axes or any(
+                    other in g and len(g) > 1 for _, g in sizes):
+                continue
+            same = (spec("size_same", dims=self.words.dim(other), dim=self.words.dim(mine)),
+                    [other])
+            return [same, *((x, g) for x, g in sizes if other not in g)]
         return None
 
     def step_words(self, specs: Sequence[Spec], headline: str) -> int:
@@ -501,9 +512,9 @@ class _Context(_Repeats, _Ellipses):
         naming a construction can be longer than the novice's last line of it
         (:func:`~h2s_print.instructions.brief_specs`).  With ``rounded`` (a round part's
         sizes, :meth:`round_sizes`), its version of each choice is tried first."""
-        for n in range(len(sizes), 0, -1):
+        for n in range(len(sizes), -1, -1):
             merged = rounded(sizes[:n]) if rounded is not None else None
-            for chosen in ([merged] if merged is not None else []) + [sizes[:n]]:
+            for chosen in ([merged] if merged is not None else []) + [sizes[:n]] * (n > 0):
                 specs = build(chosen)
                 if self.fits_levels(specs, headline):
                     return specs
@@ -806,9 +817,10 @@ class _Context(_Repeats, _Ellipses):
                                  parent=self.say(parent.part)))
                 continue
             if _on_face(anchor, parent.box, cand.box, self.tol):  # the face itself is the guide
+                pend = "lo" if anchor.ratio < 0.5 else "hi"
                 on_faces.setdefault(parent.part, []).append(
-                    (words.side(anchor.axis, anchor.end),
-                     words.face(anchor.axis, "lo" if anchor.ratio < 0.5 else "hi"), anchor.axis))
+                    (words.side(anchor.axis, anchor.end), words.face(anchor.axis, pend),
+                     anchor.axis, anchor.end == pend))
                 continue
             face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
                                                   self.tol)
@@ -820,12 +832,16 @@ class _Context(_Repeats, _Ellipses):
             # part 1's right, left and bottom faces" of the IVAR box's flat base), and its
             # face along its plane is the rectangle itself ("Its bottom lies on part 1.", not
             # "on part 1's bottom face": a rectangle has no bottom face to find)
+            # A box's face on the parent's face of the same side (flush: the oven's door's
+            # sides with the body's) is in line with it, not on it (a read-through: "lie on
+            # the base body's right face", a face hidden behind the body)
             pprim = self.plan.primitive(ppart)
             edge_axis = pprim.axis if pprim.type == "plane" else None
-            for kind in ("on_edge", "on_plane", "on_face"):
-                some = [(sd, nm) for sd, nm, ax in pairs
-                        if kind == ("on_face" if edge_axis is None
-                                    else "on_plane" if ax == edge_axis else "on_edge")]
+            for kind in ("on_edge", "on_plane", "in_line_face", "on_face"):
+                some = [(sd, nm) for sd, nm, ax, flush in pairs
+                        if kind == ("on_plane" if ax == edge_axis
+                                    else "on_edge" if edge_axis is not None
+                                    else "in_line_face" if flush else "on_face")]
                 if not some:
                     continue
                 sides, names = zip(*some)
