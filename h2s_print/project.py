@@ -354,11 +354,15 @@ class FirstBoxLines:
         height: ``(bottom, top)`` of the nearest upright edge, or ``None`` for a flat box.
         floor: ``(corner, its foot on the floor)``: the nearest bottom corner and the point
             straight below it at the floor, or ``None`` when the box stands on the floor.
+        flat: the box has no height (a flat part drawn as its rectangle): its footprint is
+            the part itself.  (``height`` is ``None`` then, but also for a box whose upright
+            edge reaches behind the eye.)
     """
 
     footprint: tuple[Point3, Point3, Point3, Point3]
     height: tuple[Point3, Point3] | None
     floor: tuple[Point3, Point3] | None = None
+    flat: bool = False
 
 
 #: The first box "stands above the floor" (:class:`FirstBoxLines`) when its bottom is more
@@ -401,4 +405,4 @@ def first_box_lines(camera: Camera, points3d: Any,
         drop = ((x, y, z), (x, y, float(floor_z)))
         if not np.any(camera.depth(drop) <= 0):
             floor = drop
-    return FirstBoxLines(foot, height, floor)
+    return FirstBoxLines(foot, height, floor, flat=not hi[2] > lo[2])

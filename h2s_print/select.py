@@ -299,13 +299,14 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
             n += 1
     # (4) no cycle of parts hanging off each other (module docstring)
     cyclic = _cyclic_edges(cands) if order else {}
-    order: dict[str, Any] = {}
+    order_vars: dict[str, Any] = {}
     for (a, b), (m, users) in sorted(cyclic.items()):
         for part in (a, b):
-            if part not in order:
-                order[part] = scip.addVar(name=f"order[{part}]", vtype="C", lb=0.0, ub=m - 1)
-        scip.addCons(order[a] - order[b] - m * quicksum(pick[i] for i in users) >= 1 - m,
-                     name=f"order[{a}|{b}]")
+            if part not in order_vars:
+                order_vars[part] = scip.addVar(name=f"order[{part}]", vtype="C", lb=0.0,
+                                               ub=m - 1)
+        scip.addCons(order_vars[a] - order_vars[b] - m * quicksum(pick[i] for i in users)
+                     >= 1 - m, name=f"order[{a}|{b}]")
         n += 1
     ties = tie_breaks(cands, farness or {})
     scip.setObjective(quicksum((costs[c.id] + ties[c.id]) * pick[c.id] for c in cands),
@@ -323,7 +324,7 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
         if rank is None:
             scip.freeSol(sol)
             return False
-        for part, var in order.items():
+        for part, var in order_vars.items():
             scip.setSolVal(sol, var, float(rank[part]))
         if not scip.checkSol(sol):
             scip.freeSol(sol)

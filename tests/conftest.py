@@ -55,3 +55,12 @@ def shared_models() -> Path:
     if not SHARED_MODELS.is_dir():
         pytest.skip("../shared/models is not present")
     return SHARED_MODELS
+
+
+def side_names(tutorial, plan, view, ends=("lo", "hi", "mid")) -> dict[str, tuple[int, str]]:
+    """A view's words for a part's sides ("left side", "back", "middle (left to right)") ->
+    ``(axis, end)``: the picture decides which side is left (``words.side``)."""
+    from h2s_print.sequence import context as seq_context
+
+    words = seq_context._context(plan, view, tutorial.paper, tutorial.sequence).words
+    return {words.side(a, e): (a, e) for a in range(3) for e in ends}

@@ -1269,7 +1269,7 @@ def test_an_edge_cited_says_the_side_it_places(examples):
     # A read-through: "Use the edge DC." left the mixer's column's back to be guessed; each
     # edge cited for a side ("Use the edges AD and AB for its left side and bottom.") lies in
     # the plane of that side of the part's box, in 3D, at its lettered ends.
-    from h2s_print.sequence import context as seq_context
+    from conftest import side_names
 
     cite = re.compile(r"Use the edges? (.+) for its (.+)\.")
     letter = r"[A-Z]'?"
@@ -1277,8 +1277,7 @@ def test_an_edge_cited_says_the_side_it_places(examples):
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
         for view in t.views:
-            words = seq_context._context(plan, view, t.paper, t.sequence).words
-            where = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi", "mid")}
+            where = side_names(t, plan, view)
             for level in ("novice", "apprentice"):
                 for s in views[(view.name, level)].steps:
                     at = {lb.name: np.asarray(lb.at3d) for lb in s.labels if lb.kind == "point"}
@@ -1307,11 +1306,13 @@ def test_an_edge_cited_says_the_side_it_places(examples):
 
 def test_a_round_parts_other_size_is_said_the_same(examples):
     # A read-through: the train's wheel read "Make its width about a quarter of the engine's"
-    # and nothing of its height.  A round part sized one way across its axis is said to be the
+    # and nothing of its height; "Make its width about a quarter of the engine's, and its
+    # height the same" read as a quarter of the engine's height (a review): "Make its width
+    # and height about a quarter of the engine's width."  A round part sized one way across its axis is said to be the
     # same the other way, and that holds on its box (both extents across its axis equal).
     from h2s_print.sequence import context as seq_context
 
-    said = re.compile(r"Make its (\w+) about .+, and its (\w+) the same\.")
+    said = re.compile(r"Make its (\w+) and (\w+) about .+'s \1\.")
     same = re.compile(r"Make its (\w+) the same as its (\w+)\.")  # the other constructed
     checked = 0
     for name, (t, plan, views) in examples.items():

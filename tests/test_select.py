@@ -454,6 +454,18 @@ def test_stand_ins_never_close_a_cycle_and_the_optimum_is_the_brute_forces(copie
         assert check_selection(done, contract=False) == []  # copies hang off what is chosen
 
 
+def test_order_rows_take_an_acyclic_start_and_refuse_a_cyclic_one():
+    # With the order rows on, an earlier selection handed to SCIP as a start is accepted when
+    # its parts hang off each other without a cycle (order values exist for it) and refused
+    # when its stand-ins close one; without the rows both are accepted.
+    prims, cands = _ring_of_stand_ins(1)
+    acyclic, cyclic = ("a<b#1", "b<c#1", "c"), ("a<b#1", "b<c#1", "c<a#1")
+    for order, want in ((True, (2, 1)), (False, (2, 2))):
+        got = tuple(build_selection_model(cands, [], LIN, hint=h, order=order).scip.getNSols()
+                    for h in (acyclic, cyclic))
+        assert got == want, (order, got)  # the all-originals start and the hint
+
+
 # ----------------------------------------------------------------------------- off the selection
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import trimesh
-from conftest import GUIDED  # the examples themselves: conftest's ``examples`` fixture
+from conftest import GUIDED, side_names  # GUIDED: the examples, conftest's ``examples`` fixture
 
 from h2s_print import sequence as seq
 from h2s_print.candidates import Anchor, Candidate
@@ -2147,8 +2147,7 @@ def test_carried_lines_cited_say_which_sides_of_the_part_they_place(examples):
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
         for view in t.views:
-            words = seq_context._context(plan, view, t.paper, t.sequence).words
-            side_of = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi", "mid")}
+            side_of = side_names(t, plan, view)
             vp = views[(view.name, "novice")]
             for s in vp.steps:
                 for x in s.substeps:
@@ -2710,9 +2709,9 @@ def test_a_face_on_a_parents_face_of_the_same_side_is_in_line_not_on_it(examples
         chosen = plan.chosen()
         for view in t.views:
             ctx = seq_context._context(plan, view, t.paper, t.sequence)
-            words, part_of = ctx.words, {ctx.say(p): p for p in chosen}
-            side_of = {words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
-            face_of = {words.face(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
+            part_of = {ctx.say(p): p for p in chosen}
+            side_of = side_names(t, plan, view, ("lo", "hi"))
+            face_of = {ctx.words.face(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
             for s in views[(view.name, "novice")].steps:
                 for x in s.substeps:
                     for kind, rx in (("flush", flush), ("rests", rests)):

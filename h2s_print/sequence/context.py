@@ -455,10 +455,11 @@ class _Context(_Repeats, _Ellipses):
     def round_sizes(self, part: str, sizes: list[tuple[Spec, list[int]]], axes: Sequence[int]
                     ) -> list[tuple[Spec, list[int]]] | None:
         """``sizes`` (:meth:`size_specs`) with a round part's other size across its axis said
-        the same as the one a sentence gives ("Make its width about a quarter of the engine's,
-        and its height the same."; the train's wheel read a width and nothing of its height,
-        a read-through), that other size's own sentence left out; None when nothing is to
-        add (not round, neither size said, or both in one sentence)."""
+        with the one a sentence gives ("Make its width and height about a quarter of the
+        engine's width."; the train's wheel read a width and nothing of its height, a
+        read-through), that other size's own sentence left out; or, where one size across
+        its axis is constructed and the other by eye, the other said the same ("Make its
+        height the same as its width."); None when nothing is to add."""
         prim, box = self.plan.primitive(part), self.chosen[part].box
         if prim.type not in ("cylinder", "frustum") or prim.axis is None:
             return None
@@ -470,13 +471,15 @@ class _Context(_Repeats, _Ellipses):
             if said.key not in ("size", "size_many"):
                 continue
             for mine, other in ((u, v), (v, u)):
-                if mine not in group or other in group or other not in axes:
+                if group != [mine] or other not in axes:  # its own sentence: {dims} is it
                     continue
                 rest = [(x, g) for x, g in sizes if other not in g or x is said]
                 if len(rest) < len(sizes) - 1 or any(
                         other in g and len(g) > 1 for x, g in sizes if x is not said):
                     continue  # the other size said with a third: keep that sentence
-                merged = (spec("size_round", dim=self.words.dim(other), **dict(said.fields)),
+                fields = {**dict(said.fields), "dims": _join([self.words.dim(mine),
+                                                              self.words.dim(other)])}
+                merged = (spec("size_round", dim=self.words.dim(mine), **fields),
                           sorted(group + [other]))
                 return [merged if x is said else (x, g) for x, g in rest]
         # one size across its axis constructed (both ends anchored), the other by eye: the
@@ -501,19 +504,17 @@ class _Context(_Repeats, _Ellipses):
         return len(text.split())
 
     def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
-              sizes: list[tuple[Spec, list[int]]],
-              rounded: Callable[[list[tuple[Spec, list[int]]]],
-                                list[tuple[Spec, list[int]]] | None] | None = None
-              ) -> list[Spec]:
+              sizes: list[tuple[Spec, list[int]]], part: str | None = None,
+              loose: Sequence[int] = ()) -> list[Spec]:
         """``build(sizes[:n])``, the sub-steps with the most size sentences (biggest axes
         first) that keep the step within :data:`MAX_STEP_WORDS`: sizes help the eye, but
         never make a step longer than the limit or split it (they are not counted when
         constructions are packed into steps), at novice nor at apprentice, whose sub-step
         naming a construction can be longer than the novice's last line of it
-        (:func:`~h2s_print.instructions.brief_specs`).  With ``rounded`` (a round part's
-        sizes, :meth:`round_sizes`), its version of each choice is tried first."""
+        (:func:`~h2s_print.instructions.brief_specs`).  With ``part`` and its ``loose``
+        axes, a round part's version of each choice (:meth:`round_sizes`) is tried first."""
         for n in range(len(sizes), -1, -1):
-            merged = rounded(sizes[:n]) if rounded is not None else None
+            merged = self.round_sizes(part, sizes[:n], loose) if part is not None else None
             for chosen in ([merged] if merged is not None else []) + [sizes[:n]] * (n > 0):
                 specs = build(chosen)
                 if self.fits_levels(specs, headline):
@@ -678,12 +679,9 @@ class _Context(_Repeats, _Ellipses):
                         key = "reuse"
                         f.pop("sides")
                     elif key == "edge_for_two":  # each line's side: said of the lines left
-                        each = [e for r, e in zip(runs, f["each"]) if r in left]
+                        each = tuple(e for r, e in zip(runs, f["each"]) if r in left)
                         key = "edge_for" if len(left) == 1 else key
-                        f["sides"] = _join(each)
-                        f["each"] = tuple(each)
-                        if len(left) == 1:
-                            f.pop("each")
+                        f["sides"], f["each"] = _join(each), each
                     s = spec(key, s.same, s.pair, **f)
             out.append(s)
         return out
@@ -802,8 +800,7 @@ class _Context(_Repeats, _Ellipses):
 
             loose = self.loose_axes(cand)
             subs = self.lettered(self.sized(head, free, self.floor_size(part, drawn)
-                                            + self.size_specs(part, loose, refs),
-                                            lambda ch: self.round_sizes(part, ch, loose)))
+                                            + self.size_specs(part, loose, refs), part, loose))
             return [_Draft(part, "primitive", False, (), strokes, head, subs,
                            _cap(lined_up) + "." if lined_up else "")]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
@@ -880,8 +877,7 @@ class _Context(_Repeats, _Ellipses):
                 said, dims = by_eye(chosen)
                 return specs + said + ([spec("by_eye", dims=dims)] if dims else []) + list(repeat)
 
-            subs = self.lettered(self.sized(head, eyeballed, sizes,
-                                            lambda ch: self.round_sizes(part, ch, loose)))
+            subs = self.lettered(self.sized(head, eyeballed, sizes, part, loose))
             return [_Draft(part, "primitive", True, (), strokes, head, subs, summary)]
         # Units of construction, one per parent face (lines shared on a face stay together).
         units: dict[tuple[str, int, str], _Unit] = {}
@@ -1073,10 +1069,10 @@ class _Context(_Repeats, _Ellipses):
                 return _guides_of(n, total, part=name, the_parents=gparents)
             return _t("headline.guides", part=name, the_parents=gparents)
 
-        groups = self.pack(list(units.values()), closing, head, step, guides_head)
+        groups = self.pack(list(units.values()), closing, head, step, guides_head, cand.box)
         if len(groups) > 2:  # numbered guides steps: their longer headlines counted too
             groups = self.pack(list(units.values()), closing, head, step,
-                               lambda g: guides_head(g, 9, 9))
+                               lambda g: guides_head(g, 9, 9), cand.box)
         drafts: list[_Draft] = []
         said: set = set()  # lines an earlier guides step of this part drew: not drawn again
         for k, group in enumerate(groups[:-1]):
@@ -1113,8 +1109,7 @@ class _Context(_Repeats, _Ellipses):
         mine = _citations(groups[:-1], step, self.anchor_side, cand.box) + own_for
         if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
             mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
-        specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes,
-                           lambda ch: self.round_sizes(part, ch, loose))
+        specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes, part, loose)
         if unplaced:  # "as pictured" where the step has room left for it: it never splits a
             # step (packing counts the closing without it) nor displaces a size sentence
             pictured = [spec(x.key + unplaced, x.same, x.pair, **dict(x.fields))
@@ -1204,7 +1199,8 @@ class _Context(_Repeats, _Ellipses):
         return self.words.side(anchor.axis, anchor.end)
 
     def pack(self, units: list["_Unit"], closing: list[Spec], head: str, step: int,
-             guides_head: Callable[[list["_Unit"]], str]) -> list[list["_Unit"]]:
+             guides_head: Callable[[list["_Unit"]], str], box: Any = None
+             ) -> list[list["_Unit"]]:
         """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
         the last group goes with ``closing`` (the placing sub-steps) under ``head``, the
         others are guides steps under ``guides_head(group)``; one unit alone may exceed the
@@ -1217,8 +1213,8 @@ class _Context(_Repeats, _Ellipses):
 
         if not units or fits(units, closing, set()):
             return [units]
-        reuse = _citations([units], step, self.anchor_side)  # as the placing step will cite
-        # them (worst case)
+        # as the placing step will cite them (worst case)
+        reuse = _citations([units], step, self.anchor_side, box)
         # Edges extended and guides reused need no room: they stay with the placing step.
         tail = [u for u in units if not u.room]
         rest = [u for u in units if u.room]
@@ -1260,8 +1256,8 @@ class _Context(_Repeats, _Ellipses):
         groups = grouped(rest)
         # the estimate above cites every line as one step's; the guides steps now known, the
         # placing step cites each with its own step ("Use UV from step 5. Use HJ from step 6.")
-        while movable and not fits(tail, _citations(groups, step, self.anchor_side) + closing,
-                                   said_by(groups)):
+        while movable and not fits(tail, _citations(groups, step, self.anchor_side, box)
+                                   + closing, said_by(groups)):
             u = movable.pop(0)
             tail.remove(u)
             rest.append(u)

@@ -54,7 +54,7 @@ def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
     footprint" then "Draw its edges" asked for a box the footprint already is)."""
     tall = lines is not None and lines.height is not None
     floor = lines is not None and lines.floor is not None
-    flat = "" if tall or lines is None else "_flat"
+    flat = "_flat" if lines is not None and lines.flat else ""
     return [spec("first_footprint" + flat), *([spec("first_height")] if tall else []),
             *([spec("first_floor")] if floor else []), spec("first_edges" + flat),
             spec("first_corners")]
@@ -109,20 +109,26 @@ def _edge_for(edge: Spec, anchors: Sequence[Any], side_of: Callable[[Any], str],
     line = dict(edge.fields)["line"]
     said = list(dict.fromkeys(side_of(a) for a in anchors
                               if box is None or _in_plane(line.points, a, box)))
-    return spec("edge_for", edge.same, line=line, sides=_join(said)) if said else edge
+    return (spec("edge_for", edge.same, line=line, sides=_join(said), each=tuple(said))
+            if said else edge)
 
 
 def _edges_together(specs: Sequence[Spec]) -> list[Spec]:
     """Edges cited for one side each said in one sentence, in order: "Use the edges AD and
-    AB for its left side and bottom." (two sentences cost four words more)."""
+    AB for its left side and bottom." (two sentences cost four words more).  Only when each
+    edge places one side, the edges are distinct and so are the sides: else each is said on
+    its own (lines and sides could not be paired)."""
     fors = [x for x in specs if x.key == "edge_for"]
-    sides = [dict(x.fields)["sides"] for x in fors]
-    if len(fors) < 2 or len(set(sides)) < len(sides) or any(
-            len(dict(x.fields)["line"].points) != 2 for x in fors):
+    sides = [dict(x.fields)["each"] for x in fors]
+    lines = [frozenset(dict(x.fields)["line"].points) for x in fors]
+    if (len(fors) < 2 or any(len(e) != 1 for e in sides) or len(set(sides)) < len(sides)
+            or len(set(lines)) < len(lines)
+            or any(len(dict(x.fields)["line"].points) != 2 for x in fors)):
         return list(specs)
-    both = spec("edge_for_two", fors[0].same,
-                line=Many(tuple(dict(x.fields)["line"] for x in fors)), sides=_join(sides),
-                each=tuple(sides))  # each line's side, for a sentence that keeps only some
+    each = tuple(e[0] for e in sides)
+    both = spec("edge_for_two", ("edges",) + tuple(x.same for x in fors),
+                line=Many(tuple(dict(x.fields)["line"] for x in fors)), sides=_join(each),
+                each=each)  # each line's side, for a sentence that keeps only some
     return [both if x is fors[0] else x for x in specs if x.key != "edge_for" or x is fors[0]]
 
 
