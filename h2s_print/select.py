@@ -20,8 +20,8 @@ One binary ``χ`` per candidate.  A selection is valid when (paper eq. 1-3):
    (measured, 2026-11-25: the rows every time cost gen80's plan 21.2 -> 27.1 s, solved
    first without them 22.0 s).  Until stop 29 a selection whose stand-ins closed a
    cycle was cut off and the model solved again, four times, and then with stand-ins no
-   deeper than the parent they stand in for: the train's eight wheels (equal-cost mirror
-   selections) used all four cuts and fell back, at twice the time.  The
+   deeper than the parent they stand in for, which is not optimal: on a ring of three parts
+   whose cheap selections all close a cycle, 13 against the optimum 8 (a test).  The
    answer names the stand-ins: a selected candidate whose parent was stood in for is reported
    as a copy (id + ``*``) hanging off the stand-in (:attr:`Selection.stand_ins`), so
    plan.json's parents and ratio equations hold as written.  In the quadratic formulation a
@@ -339,8 +339,7 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
     if hint and all(i in pick for i in hint):
         offer(hint)  # an earlier selection (plan.choose)
     return SelectionModel(scip=scip, pick=pick, formulation=settings.formulation, costs=costs,
-                          start=start, n_constraints=n,
-                          n_vars=len(pick) + len(anys),
+                          start=start, n_constraints=n, n_vars=len(pick) + len(anys),
                           settings=settings,
                           candidates=tuple(cands), subs=subs)
 
