@@ -212,3 +212,33 @@ def test_duplicate_names_are_a_model_error():
     a = _cuboid("a", (0, 0, 0), (1, 1, 1))
     with pytest.raises(ModelError, match="repeated: a"):
         detect_relations([a, a])
+
+
+def test_an_end_sunk_into_an_unrelated_part_is_a_contact_at_its_face():
+    # The desk's legs reach into the middle of the desk top's thickness, related to nothing:
+    # the leg's top gets a coplanar relation with the top's underside, its tolerance the depth
+    # sunk (the hidden length may go), marked "embedded" and kept (preserved).  The relation
+    # holds on the inputs, as the selection requires.
+    from h2s_print.candidates import relation_holds
+
+    top = _cuboid("top", (-5, -3, 10), (5, 3, 11))
+    leg = _cuboid("leg", (-4.2, 0.8, 0), (-3.8, 1.2, 10.5))  # 0.5 into a 1-thick top
+    rels = detect_relations([top, leg])
+    sunk = [r for r in rels if r.detail.get("embedded")]
+    assert len(sunk) == 1
+    (r,) = sunk
+    assert (r.a, r.b, r.type, r.axis) == ("leg", "top", "coplanar", 2)
+    assert (r.detail["a_end"], r.detail["b_end"]) == ("hi", "lo")
+    assert r.tolerance == pytest.approx(0.5) and r.detail["coord"] == pytest.approx(10.0)
+    assert r.detail["preserved"] and relation_holds(r, leg.box, top.box)
+    # ... but only where nothing else relates them (a pair related otherwise is anchored
+    # through that relation), so not a centred leg; a leg whose top is on the underside
+    # within the tolerance is coplanar already, and one that passes right through, or sticks
+    # out across the top, is not sunk into it
+    flush = _cuboid("leg", (-4.2, 0.8, 0), (-3.8, 1.2, 10.01))
+    assert not any(r.detail.get("embedded") for r in detect_relations([top, flush]))
+    through = _cuboid("leg", (-4.2, 0.8, 0), (-3.8, 1.2, 12))
+    wide = _cuboid("leg", (-6, 0.8, 0), (-3.8, 1.2, 10.5))
+    centred = _cuboid("leg", (-4.2, -0.2, 0), (-3.8, 0.2, 10.5))  # a bisector relates them
+    for other in (through, wide, centred):
+        assert not any(r.detail.get("embedded") for r in detect_relations([top, other]))
