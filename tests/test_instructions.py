@@ -1340,3 +1340,37 @@ def test_a_round_parts_other_size_is_said_the_same(examples):
     chimney = next(s for s in views[("front-left", "novice")].steps if s.part == "chimney"
                    and s.kind == "primitive")
     assert any(same.fullmatch(x) for x in chimney.substeps), chimney.substeps
+
+
+def test_sides_in_line_with_the_parents_same_sides_are_said_once(examples):
+    # The train's master wagon read "Its back in line with the engine's back, its front in
+    # line with the engine's front, its top ... and its bottom ...": 32 words naming the engine
+    # four times.  Sides each in line with the parent's side of the same name read as one
+    # phrase, and each holds on the boxes.
+    from conftest import side_names
+
+    said = re.compile(r"(?:^|, |and )[Ii]ts ((?:[a-z ]+, )*[a-z ]+ and [a-z ]+) in line with "
+                      r"(?:the )?([a-z0-9 ]+)'s(?=,| and|\.)")
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view in t.views:
+            sides = side_names(t, plan, view, ("lo", "hi"))
+            for s in views[(view.name, "master")].steps:
+                if s.kind != "primitive" or s.part is None:
+                    continue
+                for m in said.finditer(s.text):
+                    parent = m.group(2).replace(" ", "_")
+                    if parent not in chosen:
+                        continue
+                    box, pbox = np.asarray(chosen[s.part].box), np.asarray(chosen[parent].box)
+                    for side in re.split(r", | and ", m.group(1)):
+                        axis, end = sides[side]
+                        k = int(end == "hi")
+                        assert abs(box[k, axis] - pbox[k, axis]) <= 1e-6 * max(
+                            1.0, float(np.abs(pbox).max())), (name, s.text)
+                        checked += 1
+    assert checked >= 6
+    t, plan, views = examples["train"]
+    wagon = next(s for s in views[("front-left", "master")].steps if s.part == "wagon")
+    assert wagon.text.endswith("Its back, front, top and bottom in line with the engine's.")

@@ -180,8 +180,23 @@ def _ratio_phrases(words: _Words, anchors: Sequence[Any], name_of: Any) -> list[
     each side apart, 75 words)."""
     out: list[str] = []
     done: set[int] = set()
+    # sides each in line with the parent's side of the same name, said once: "its back,
+    # front, top and bottom in line with the engine's" (the train's master wagon named the
+    # engine four times in 32 words)
+    same: dict[str, list[int]] = {}
+    for i, a in enumerate(anchors):
+        if (a.end != "mid" and a.face_normal != a.axis
+                and entry_for(a.ratio).name in ("start", "end")
+                and a.end == ("lo" if a.ratio < 0.5 else "hi")):
+            same.setdefault(a.parent, []).append(i)
+    first = {ids[0]: ids for ids in same.values() if len(ids) > 1}
     for i, a in enumerate(anchors):
         if i in done:
+            continue
+        if i in first:
+            done.update(first[i])
+            out.append(_t("ratio_words.align_same", parent=name_of(a), sides=_join(
+                [words.side(anchors[k].axis, anchors[k].end) for k in first[i]])))
             continue
         twin = next((k for k, b in enumerate(anchors) if k > i and k not in done
                      and b.axis == a.axis and b.parent == a.parent
