@@ -224,16 +224,15 @@ def detect_relations(
     for i, a in enumerate(usable):
         for b in usable[i + 1:]:
             keyed.extend(_pair_relations(a, b, rel_tol))
-    keyed.sort(key=lambda kr: kr[0])
-    out: list[Relation] = []
-    previous: tuple[str, str] | None = None
-    prims = {p.part: p for p in usable}
     related = {(r.a, r.b) for _, r in keyed}
     for i, a in enumerate(usable):  # an end sunk into a part it is otherwise unrelated to
         for b in usable[i + 1:]:
             if (a.part, b.part) not in related:
                 keyed.extend(_embedded(a, b, rel_tol))
     keyed.sort(key=lambda kr: kr[0])
+    out: list[Relation] = []
+    previous: tuple[str, str] | None = None
+    prims = {p.part: p for p in usable}
     for _, rel in keyed:
         first = (rel.a, rel.b) != previous
         previous = (rel.a, rel.b)

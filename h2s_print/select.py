@@ -567,7 +567,8 @@ def _stand_in(cands: Sequence[Candidate], subs: dict[tuple[str, str], tuple[str,
                 copies.append(new)
             todo.remove(part)
             progressed = True
-        if not progressed:  # the order rows forbid it: a bug, never the input's fault
+        if not progressed:  # solved without the order rows (select_candidates solves
+            # again with them); with them, a bug, never the input's fault
             raise _Cycle(f"the anchoring graph has a cycle among {sorted(todo)}")
     return tuple(sorted(x.id for x in final.values())), tuple(sorted(copies, key=lambda c: c.id))
 

@@ -124,7 +124,7 @@ SIZE_TOLERANCE = 0.12
 SIZE_SENTENCES = 2
 
 #: A round part's box is square across its axis within this fraction: its other size is
-#: said to equal the one a size sentence gives (:meth:`_Context.size_specs`).
+#: said to equal the one a size sentence gives (:meth:`_Context.round_sizes`).
 ROUND_SIZES = 0.01
 
 
@@ -467,7 +467,7 @@ class _Context(_Repeats, _Ellipses):
         if abs(_extent(box, u) - _extent(box, v)) > ROUND_SIZES * max(_extent(box, u),
                                                                      _extent(box, v)):
             return None
-        for k, (said, group) in enumerate(sizes):
+        for said, group in sizes:
             if said.key not in ("size", "size_many"):
                 continue
             for mine, other in ((u, v), (v, u)):
@@ -860,17 +860,15 @@ class _Context(_Repeats, _Ellipses):
             """The size sentences chosen, and the sizes left to the eye."""
             done = {a for _, group in chosen for a in group}
             return [x for x, _ in chosen], _join([words.dim(a) for a in loose if a not in done])
-        parents = _join([_the(x) for x in _unique(self.say(self.by_id[a.parent].part)
-                                                  for a in cand.anchors)])
+        parents = _join([_the(x) for x in _unique(self.parent_name(a) for a in cand.anchors)])
         # what the anchors place, then what the part lines up with on an axis none places
         # (a master read nothing of the shutter button's "Centre it front to back")
         unguided = self.free_positions(part, drawn, cand.unguided_axes)
-        summary = _cap(_join(_ratio_phrases(words, cand.anchors,
-                                            lambda a: self.say(self.by_id[a.parent].part))
+        summary = _cap(_join(_ratio_phrases(words, cand.anchors, self.parent_name)
                              + self.lined_up(unguided))) + "."
         if eyeball:
-            specs = [spec("position", position=_position(words, a, self.say(self.by_id[a.parent].part),
-                                                         True)) for a in cand.anchors]
+            specs = [spec("position", position=_position(words, a, self.parent_name(a), True))
+                     for a in cand.anchors]
             head = _t("headline.eyeball", Part=_cap(name), shape=shape) + note
 
             def eyeballed(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
@@ -1091,7 +1089,7 @@ class _Context(_Repeats, _Ellipses):
             self.record(group, here, described)
             gsummary = _t("substep.guides_for", words=_join(_unique(
                 _ratio_phrases(words, [a for u in shown for a in u.anchors],
-                               lambda a: self.say(self.by_id[a.parent].part)))))
+                               self.parent_name))))
             drafts.append(_Draft(part, "guides", False, tuple(ln for u in shown for ln in u.lines),
                                  (), guides_head(shown, k + 1, len(groups) - 1), subs,
                                  gsummary))
@@ -1193,6 +1191,10 @@ class _Context(_Repeats, _Ellipses):
         if not all(k in drawn_in for k in keys):
             return spec(s.key, s.same, s.pair, **f) if drawn_in else s
         return spec(f"{s.key}_reuse", s.same, s.pair, step=max(drawn_in[k] for k in keys), **f)
+
+    def parent_name(self, anchor: Any) -> str:
+        """The name of the part an anchor hangs off, as said ("the base")."""
+        return self.say(self.by_id[anchor.parent].part)
 
     def anchor_side(self, anchor: Any) -> str:
         """The side of the part an anchor places ("back", "middle (front to back)")."""

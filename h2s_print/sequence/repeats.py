@@ -97,8 +97,7 @@ class _Repeats:
         where = {}
         for q in members:
             cand = self.chosen[q]
-            w = _join(_ratio_phrases(self.words, cand.anchors,
-                                     lambda a: self.say(self.by_id[a.parent].part)))
+            w = _join(_ratio_phrases(self.words, cand.anchors, self.parent_name))
             short = len(w.split()) <= REPEAT_WHERE_WORDS
             where[q] = w if short and self.parents_of(q) <= keep else ""
         if len(set(where.values())) > 1:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -130,6 +130,11 @@ def _unique(items: Iterable[str]) -> list[str]:
     return out
 
 
+def _extension(entry: Any) -> str:
+    """The amount an extrusion extends by, in words ("one", "half a")."""
+    return _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+
+
 def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
     axis, r = anchor.axis, anchor.ratio
     side = words.side(axis, anchor.end)
@@ -144,7 +149,7 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
         return _t("primitive.position.inside", side=side, about=ab,
                   fraction=_raw("primitive.fractions")[entry.name], parent=parent,
                   lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
-    amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+    amount = _extension(entry)
     return _t("primitive.position.extend", side=side, about=ab, amount=amount, parent=parent,
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
 
@@ -168,16 +173,18 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
                   side=side, parent=parent, dim=words.dim(axis),
                   fraction=_raw("primitive.fractions")[entry.name],
                   lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
-    amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1") else "half"]
+    amount = _extension(entry)
     return _t("ratio_words.extend", side=side, amount=amount, parent=parent,
               dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
 
 
-def _ratio_phrases(words: _Words, anchors: Sequence[Any], name_of: Any) -> list[str]:
+def _ratio_phrases(words: _Words, anchors: Sequence[Any],
+                   name_of: Callable[[Any], str]) -> list[str]:
     """:func:`_ratio_words` of each anchor (``name_of(anchor)``: its parent part's name, as
-    said), but both ends of an axis extended alike beyond one parent said once: "its width
-    the column's, with half a column width more on each side" (the mixer's master bowl said
-    each side apart, 75 words)."""
+    said), but sides in line with the parent's sides of the same name said together, and
+    both ends of an axis extended alike beyond one parent said once: "its width the column's,
+    with half a column width more on each side" (the mixer's master bowl said each side
+    apart, 75 words)."""
     out: list[str] = []
     done: set[int] = set()
     # sides each in line with the parent's side of the same name, said once: "its back,
@@ -209,12 +216,8 @@ def _ratio_phrases(words: _Words, anchors: Sequence[Any], name_of: Any) -> list[
             out.append(_ratio_words(words, a, name_of(a)))
             continue
         done.add(twin)
-        lo = a if a.end == "lo" else anchors[twin]
-        entry = entry_for(lo.ratio)
-        amount = _raw("primitive.amounts")["one" if entry.name.startswith("extend-1")
-                                           else "half"]
-        out.append(_t("ratio_words.extend_both", amount=amount, parent=name_of(a),
-                      dim=words.dim(a.axis)))
+        out.append(_t("ratio_words.extend_both", amount=_extension(entry_for(a.ratio)),
+                      parent=name_of(a), dim=words.dim(a.axis)))
     return out
 
 
