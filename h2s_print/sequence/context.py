@@ -693,7 +693,7 @@ class _Context(_Repeats, _Ellipses):
         carried in step 3" (a read-through: "Centre part 2 on AB" with AB the base's front
         edge, said nowhere, read as a line to construct)."""
         out = list(specs)
-        drop: set[int] = set()  # steps whose carried lines a centring sentence now cites
+        drop: dict[int, int] = {}  # step -> centring sentences now citing its carried lines
         for j, s in enumerate(out):
             if s.key != "centred":
                 continue
@@ -712,25 +712,39 @@ class _Context(_Repeats, _Ellipses):
                               else spec("centred_reuse", s.same, s.pair, step=cf["step"], **f))
                     break
             else:
-                # a line carried in one earlier step, which the step cites only as "the
+                # a line carried in one earlier step, which the step cites only among "the
                 # lines carried in step 9" (the roller's frame shaft: "Centre the frame shaft
-                # on EN"); cited "for its middle (left to right)", the line is said already
+                # on EN"), or "for its middle (front to back)" (the desk's foot: "Centre part
+                # 6 on HJ", J lettered nowhere before): said with its step, and the middle
+                # it places left to this sentence
                 named = any(_same_segment(a, b, r.points[0], r.points[1], self.tol)
                             for x in out[:j] for _, v in x.fields if isinstance(v, (Pts, Many))
                             for r in line_runs(v) if len(r.points) == 2)
                 moved = {(x.key.startswith("reuse_carried"), dict(x.fields)["step"])
-                         for x in out[:j] if x.key in _MOVED_CITES}
-                named = named or any(x.key.endswith("_for") for x in out[:j]
-                                     if x.key in _MOVED_CITES)
+                         for x in specs[:j] if x.key in _MOVED_CITES}
                 if not named and len(moved) == 1:  # (its far end is lettered only now)
-                    carried, n = moved.pop()
+                    carried, n = next(iter(moved))
                     out[j] = spec("centred_carried" if carried else "centred_extended",
                                   s.same, s.pair, step=n, **f)
-                    drop.add(n)
+                    drop[n] = drop.get(n, 0) + 1
         # "Use the lines carried in step 9." says no more than "Centre it on EN, carried in
-        # step 9." (one with the sides they place stays)
-        return [x for x in out if not (x.key in ("reuse_carried", "reuse_extended")
-                                       and dict(x.fields)["step"] in drop)]
+        # step 9."; "... for its middle (front to back) and bottom." keeps its bottom
+        kept: list[Spec] = []
+        for x in out:
+            if x.key in _MOVED_CITES and dict(x.fields)["step"] in drop:
+                if not x.key.endswith("_for"):
+                    continue
+                xf = dict(x.fields)
+                if len(xf["mids"]) > drop[xf["step"]]:  # a middle no sentence centres on
+                    kept.append(x)
+                    continue
+                each = tuple(e for e in xf["each"] if e not in xf["mids"])
+                if not each:
+                    continue
+                x = spec(x.key, x.same, x.pair, **{**xf, "sides": _join(each), "each": each,
+                                                   "mids": ()})
+            kept.append(x)
+        return kept
 
     def letter(self, drafts: Sequence[_Draft], roles: frozenset[str] = LEVEL_ROLES["novice"]
                ) -> list[_Draft]:

@@ -144,6 +144,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     sides: dict[int, list[str]] = {}
     carried: dict[int, bool] = {}  # step -> carried (True) or only extended (False)
     moved_sides: dict[int, list[str]] = {}  # step -> the sides its carried lines place
+    moved_mids: dict[int, list[str]] = {}  # ... those of them that are middles
     moved = _carried(groups)
     edges: list[Spec] = []  # edges of drawn parts: no step drew them ("Use the edge AD")
     for k, g in enumerate(groups):
@@ -165,6 +166,8 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                     x.key in _CARRIES and x.key != "extend_to" for x in u.specs)
                 if side_of is not None:
                     moved_sides.setdefault(step + k, []).extend(side_of(a) for a in u.carried_for)
+                    moved_mids.setdefault(step + k, []).extend(
+                        side_of(a) for a in u.carried_for if a.end == "mid")
     out = _edges_together(edges)
     for n, lines in sorted(cited.items()):
         said = list(dict.fromkeys(sides.get(n, ())))
@@ -177,7 +180,9 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     for n, moved_too in carried.items():
         key = "reuse_carried" if moved_too else "reuse_extended"
         said = list(dict.fromkeys(moved_sides.get(n, ())))
-        out.append(spec(f"{key}_for", step=n, sides=_join(said)) if said else spec(key, step=n))
+        out.append(spec(f"{key}_for", step=n, sides=_join(said), each=tuple(said),
+                        mids=tuple(dict.fromkeys(moved_mids.get(n, ()))))
+                   if said else spec(key, step=n))
     return out
 
 
