@@ -947,12 +947,21 @@ def test_hidden_part_that_anchors_a_visible_part_is_kept():
     order = _primitive_parts(vp)
     assert order.index("small") < order.index("mast")
     step = next(s for s in vp.steps if s.part == "mast" and s.kind == "primitive")
-    # the align guide: the small box's top edge on its front face, y = 150, z = 50
-    assert any(g.role == "guide" and g.from3d[1] == g.to3d[1] == 150.0 and g.from3d[2] == g.to3d[2] == 50.0
-               for g in step.guides)
-    # carried to the mast (y 155..165 is behind the face y = 150): a line along y at z = 50
+    # the align guide: a top edge of the small box (z = 50, on two of its planes)
+    lo, hi = boxes["small"]
+
+    def on_small_edge(p):
+        return p[2] == 50.0 and (p[0] in (lo[0], hi[0])) + (p[1] in (lo[1], hi[1])) >= 1
+
+    assert any(g.role == "guide" and on_small_edge(g.from3d) and on_small_edge(g.to3d)
+               and (g.from3d[0] == g.to3d[0] in (lo[0], hi[0])
+                    or g.from3d[1] == g.to3d[1] in (lo[1], hi[1])) for g in step.guides)
+    # carried to the mast at z = 50, ending on the mast's box (x 20..30, y 155..165)
+    mlo, mhi = boxes["mast"]
     assert any(g.role == "vanishing" and g.from3d[2] == g.to3d[2] == 50.0
-               and {g.from3d[1], g.to3d[1]} == {150.0, 155.0} for g in step.guides)
+               and any(mlo[0] <= p[0] <= mhi[0] and mlo[1] <= p[1] <= mhi[1]
+                       and (p[0] in (mlo[0], mhi[0]) or p[1] in (mlo[1], mhi[1]))
+                       for p in (g.from3d, g.to3d)) for g in step.guides)
 
 
 def test_hidden_copy_is_left_out_when_its_copies_are_placed_by_eye(caplog):
@@ -2338,7 +2347,10 @@ def test_a_carry_turns_on_a_line_the_paper_shows_or_says_by_eye(examples):
                         checked += 1
                 drawn += [(st.points_mm[k], st.points_mm[k + 1]) for st in s.strokes
                           for k in range(len(st.points_mm) - 1)]
-    assert checked >= 3
+    # (an edge alignment is taken from the parent's face nearest the part, so most carries
+    # that turned along the parent's own edges are now an edge used or extended: one turn
+    # is left, the train's chimney)
+    assert checked >= 1
 
 
 def test_a_part_no_anchor_places_along_an_axis_is_placed_as_pictured(examples):
@@ -2732,3 +2744,49 @@ def test_a_face_on_a_parents_face_of_the_same_side_is_in_line_not_on_it(examples
                             assert (e == pe) == (kind == "flush"), (name, view.name, x)
                             checked[kind] += 1
     assert checked["flush"] >= 4 and checked["rests"] >= 4, checked
+
+
+def _along_box_edge(p, q, box, tol) -> bool:
+    """Does the segment p-q lie on one of ``box``'s twelve edges?"""
+    lo, hi = np.asarray(box[0], float), np.asarray(box[1], float)
+    on = [k for k in range(3)
+          if any(abs(p[k] - c) <= tol and abs(q[k] - c) <= tol for c in (lo[k], hi[k]))]
+    if len(on) != 2:
+        return False
+    k = 3 - sum(on)
+    return all(lo[k] - tol <= v <= hi[k] + tol for v in (p[k], q[k]))
+
+
+def test_no_carry_runs_along_an_edge_already_drawn(examples, shared_models):
+    """A line carried to a part never runs along an edge of a box drawn before: it would
+    draw nothing new (a read-through: the chair's back rail, "Carry ST and RT toward the left
+    vanishing point", along the seat's own side edges; the camera's prism, the lens's top
+    edges).  An end in line with a parent's edge takes the edge from the parent's face
+    nearest the part."""
+    from conftest import CONFIGS
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    cases = [(name, t, plan, vp) for name, (t, plan, views) in examples.items()
+             for (view, level), vp in views.items() if level == "novice"]
+    for model in ("chair_ingolf", "desk_fredrik", "table_lack"):
+        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
+        plan = build_plan(t.model, t.solver, t.views)
+        cases += [(model, t, plan, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
+                  for view in t.views]
+    checked = 0
+    for name, t, plan, vp in cases:
+        chosen = plan.chosen()
+        tol = 1e-6 * float(np.ptp(np.asarray(plan.model.bounds), axis=0).max())
+        drawn: list = []
+        for s in vp.steps:
+            for g in s.guides:
+                if g.role != "vanishing" or g.status != "new":
+                    continue
+                p, q = np.asarray(g.from3d, float), np.asarray(g.to3d, float)
+                assert not any(_along_box_edge(p, q, box, tol) for box in drawn), (
+                    name, vp.name, s.index, s.text)
+                checked += 1
+            if s.kind == "primitive" and s.part is not None:
+                drawn.append(chosen[s.part].box)
+    assert checked > 20

@@ -275,13 +275,58 @@ def _carry_lines(con: Any, face: Face, child: Box, tol: float) -> list[_Line]:
     return out
 
 
+def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[int, float]:
+    """What ``carry`` costs the reader: its legs along an edge of the parent's box first
+    (they draw nothing new: "Carry ST toward the left vanishing point" along the seat's own
+    edge), then how far it moves the result line across (a leg along the line itself only
+    extends it: one stroke along the edge)."""
+    along = _moving_axis(_Line("", con.result.start, con.result.end))
+    lo, hi = pbox
+    on_edges = moved = 0
+    for ln in carry:
+        if _moving_axis(ln) == along:
+            continue
+        moved += float(np.linalg.norm(np.subtract(ln.end, ln.start)))
+        k = _moving_axis(ln)
+        across = [b for b in range(3) if b != k]  # on two of the box's planes, inside along k
+        if (all(abs(ln.start[b] - ln.end[b]) <= tol
+                and min(abs(ln.start[b] - lo[b]), abs(ln.start[b] - hi[b])) <= tol
+                for b in across)
+                and all(lo[k] - tol <= p[k] <= hi[k] + tol for p in (ln.start, ln.end))):
+            on_edges += 1
+    return on_edges, moved
+
+
 def _anchor_lines(anchor: Any, pbox: Box, cbox: Box, camera: Camera,
                   tol: float) -> tuple[Face, Any, list[_Line], list[_Line]]:
-    """An anchor's construction face, its construction, its lines and the carrying lines."""
+    """An anchor's construction face, its construction, its lines and the carrying lines.
+
+    An end in line with a parent's edge (ratio 0 or 1) draws nothing on the face: its line is
+    an edge of the parent's box, drawn with it (dashed where hidden).  It is taken from the
+    face whose carry to the part runs least along the parent's own edges, then moves the
+    line least (:func:`_carry_cost`), the view's face first on a tie (the
+    chair's back rail: its top was carried from the seat's front top edge along the seat's
+    own side edges to its back top edge, which the picture already showed; a read-through
+    found nothing new drawn).  Other ratios construct on a face the view shows
+    (:func:`_anchor_face`)."""
     face = _anchor_face(anchor, pbox, camera)
     con = construct(face, anchor.axis, anchor.ratio)
+    carry = _carry_lines(con, face, cbox, tol)
+    if carry and anchor.end != "mid" and entry_for(anchor.ratio).name in ("start", "end"):
+        best = _carry_cost(con, carry, pbox, tol)
+        biggest = max(_extent(pbox, a) for a in range(3))
+        for n in range(3):
+            if n == anchor.axis or _extent(pbox, 3 - n - anchor.axis) <= 1e-12 * biggest:
+                continue
+            for end in ("lo", "hi"):
+                other = Face(pbox, n, end)
+                c2 = construct(other, anchor.axis, anchor.ratio)
+                k2 = _carry_lines(c2, other, cbox, tol)
+                cost = _carry_cost(c2, k2, pbox, tol)
+                if cost[0] < best[0] or (cost[0] == best[0] and cost[1] < best[1] - tol):
+                    face, con, carry, best = other, c2, k2, cost
     own = [_Line(ln.role, ln.start, ln.end) for ln in con.lines]
-    return face, con, own, _carry_lines(con, face, cbox, tol)
+    return face, con, own, carry
 
 
 def _on_face(anchor: Any, pbox: Box, cbox: Box, tol: float) -> bool:
