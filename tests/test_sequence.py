@@ -2764,6 +2764,7 @@ def test_no_carry_runs_along_an_edge_already_drawn(examples, shared_models):
     edges).  An end in line with a parent's edge takes the edge from the parent's face
     nearest the part."""
     from conftest import CONFIGS
+
     from h2s_print.config import load_tutorial
     from h2s_print.plan import build_plan
 
