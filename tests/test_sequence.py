@@ -2791,3 +2791,38 @@ def test_no_carry_runs_along_an_edge_already_drawn(examples, shared_models):
             if s.kind == "primitive" and s.part is not None:
                 drawn.append(chosen[s.part].box)
     assert checked > 20
+
+
+def test_an_edge_the_text_names_is_an_edge_on_the_paper(examples, shared_models):
+    """"Use the edge AB", "Centre part 2 on the edge AB": A and B lie on one line drawn
+    before (a box's edge, 0.05 mm on the page).  The IVAR box's base board, fitted with a
+    thickness and drawn as a flat rectangle in its mid-plane, had its edges constructed on
+    the board's top face: A and B 2-4 mm off the drawn corners."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    cases = [(name, vp) for name, (_, _, views) in examples.items()
+             for (_, level), vp in views.items() if level == "novice"]
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "box_ivar.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    cases += [("box_ivar", seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
+              for view in t.views]
+    checked = set()
+    for name, vp in cases:
+        drawn: list = []
+        for s in vp.steps:
+            at = {lb.name: lb.at_mm for lb in s.labels if lb.kind == "point"}
+            for x in s.substeps:
+                m = re.search(r"the edges? ((?:[A-Z]'*){2}(?:(?:, | and )(?:[A-Z]'*){2})*)", x)
+                if not m:
+                    continue
+                for pair in re.split(r", | and ", m.group(1)):
+                    a, b = re.findall(r"[A-Z]'*", pair)
+                    assert any(_on_segment(at[a], p, q, 0.05) and _on_segment(at[b], p, q, 0.05)
+                               for p, q in drawn), (name, vp.name, s.index, x)
+                    checked.add(name)
+            drawn += [(st.points_mm[k], st.points_mm[k + 1]) for st in s.strokes
+                      for k in range(len(st.points_mm) - 1)]
+    assert "box_ivar" in checked and len(checked) >= 3

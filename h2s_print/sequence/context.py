@@ -70,6 +70,7 @@ from .geometry import (
     _anchor_lines,
     _box_corners,
     _contour_strokes,
+    _drawn_box,
     _extent,
     _Line,
     _mostly_on,
@@ -833,8 +834,8 @@ class _Context(_Repeats, _Ellipses):
                     (words.side(anchor.axis, anchor.end), words.face(anchor.axis, pend),
                      anchor.axis, anchor.end == pend))
                 continue
-            face, con, own, carry = _anchor_lines(anchor, parent.box, cand.box, self.camera,
-                                                  self.tol)
+            pbox = _drawn_box(self.plan.primitive(parent.part), parent.box)
+            face, con, own, carry = _anchor_lines(anchor, pbox, cand.box, self.camera, self.tol)
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
                 faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con, own, carry))

@@ -143,6 +143,20 @@ def _contour_strokes(cs: Any, camera: Camera) -> tuple[Stroke, ...]:
     return tuple(out)
 
 
+def _drawn_box(primitive: Any, box: Box) -> Box:
+    """``box`` as the scaffold draws it: a flat rectangle (a plane fitted with some
+    thickness, the IVAR box's base board) in its mid-plane (:func:`_solid`), where the
+    constructions on it must lie too (they lay on the board's top face, 2-4 mm off the drawn
+    corners on the page: "Centre part 2 on the edge AB" with AB off the edge)."""
+    if primitive.type != "plane" or primitive.axis is None:
+        return box
+    axis = primitive.axis
+    mid = 0.5 * (box[0][axis] + box[1][axis])
+    lo, hi = list(box[0]), list(box[1])
+    lo[axis] = hi[axis] = mid
+    return (tuple(lo), tuple(hi))
+
+
 def _solid(primitive: Any, box: Box) -> tuple[np.ndarray, list[tuple[int, ...]], bool]:
     """Vertices, faces (index tuples) and "flat" flag of the scaffold of ``primitive`` drawn in
     ``box`` (the fitted box mapped to ``box`` per axis for frusta)."""
