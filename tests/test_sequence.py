@@ -2826,3 +2826,121 @@ def test_an_edge_the_text_names_is_an_edge_on_the_paper(examples, shared_models)
             drawn += [(st.points_mm[k], st.points_mm[k + 1]) for st in s.strokes
                       for k in range(len(st.points_mm) - 1)]
     assert "box_ivar" in checked and len(checked) >= 3
+
+
+def _at_side(points, box, side, tol) -> bool:
+    """Are ``points`` (3D) at the coordinate of ``side`` (axis, lo/hi/mid) of ``box``?"""
+    axis, end = side
+    c = (box[0][axis] + box[1][axis]) / 2 if end == "mid" else box[0 if end == "lo" else 1][axis]
+    return all(abs(p[axis] - c) <= tol for p in points)
+
+
+def test_a_carry_says_what_its_lines_place(examples, shared_models):
+    """"Extend VX for its back, as pictured.", "Carry XY vertically for its front": every side
+    said has a named line at that side's coordinate of the part's box (a carry keeps it;
+    checked on the lettered points in 3D), and every named line is at some side said (a
+    read-through could not tell which of the mixer head's three lines was its back)."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    cases = [(t, plan, t.views[[v.name for v in t.views].index(view)], vp)
+             for (t, plan, views) in examples.values()
+             for (view, level), vp in views.items() if level == "novice"]
+    for model in ("chair_ingolf", "desk_fredrik"):
+        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
+        plan = build_plan(t.model, t.solver, t.views)
+        cases += [(t, plan, view, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
+                  for view in t.views]
+    said = 0
+    for t, plan, view, vp in cases:
+        names = side_names(t, plan, view)
+        chosen = plan.chosen()
+        for s in vp.steps:
+            at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
+            for x in s.substeps:
+                m = re.match(r"(?:Carry|Extend) (.*?) for its (.*?)(?:, as pictured)?\.$", x)
+                if not m:
+                    continue
+                box = np.asarray(chosen[s.part].box, float)
+                tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+                lines = [re.findall(r"[A-Z]'*", w) for w in
+                         re.findall(r"(?<![A-Z'])(?:[A-Z]'*){2}(?![A-Z'])", m.group(1))]
+                sides = [names[w] for w in re.split(r", | and ", m.group(2))]
+                assert lines and sides, x
+                for side in sides:
+                    assert any(_at_side([at[p] for p in line], box, side, tol)
+                               for line in lines), (vp.name, s.index, x, side)
+                for line in lines:
+                    assert any(_at_side([at[p] for p in line], box, side, tol)
+                               for side in sides), (vp.name, s.index, x, line)
+                said += 1
+    assert said > 20
+
+
+def test_the_floor_under_a_part_is_constructed_from_the_floor_line(shared_models):
+    """The table's leg stands on the floor, which the sheet shows only as the line dropped
+    from the table top's nearest corner to its foot.  Its bottom corner is constructed: in
+    3D the corner named is under the leg's top corner, on the floor; on the page it is where
+    the last line (toward a vanishing point, from the point the step names) crosses the
+    vertical through the top corner, redone in 2D from projected points (a read-through:
+    "Carry the blue floor line's foot to its bottom" drew no line)."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "table_lack.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    floor = min(c.box[0][2] for c in plan.chosen().values())
+    checked = 0
+    for view in t.views:
+        for level in ("novice", "apprentice"):
+            vp = seq.sequence_view(plan, view, level, t.paper, t.sequence)
+            m = np.asarray(vp.camera.projection_mm, float)
+            cited = {}
+            for s in vp.steps:
+                at3 = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels}
+                at2 = {lb.name: np.asarray(lb.at_mm, float) for lb in s.labels}
+                for x in s.substeps:
+                    got = (re.match(r"From ([A-Z]'*), draw \1([A-Z]'*) .*: \2, below "
+                                    r"([A-Z]'*), is its bottom corner\.$", x)
+                           or re.match(r"From ([A-Z]'*), the blue floor line's foot, draw "
+                                       r"\1([A-Z]'*) .*: its nearest upright edge ends at "
+                                       r"\2()\.$", x))
+                    if got:
+                        st, end, top = got.groups()
+                        box = np.asarray(plan.chosen()[s.part].box, float)
+                        # the top corner above (said, or the box's where the line ends at
+                        # the part's own upright edge)
+                        top3 = at3[top] if top else np.array([*at3[end][:2], box[1][2]])
+                        top2 = at2[top] if top else _project(m, top3)
+                        # 3D: under the top corner, on the floor, at a corner of the part's box
+                        assert at3[end][2] == pytest.approx(floor, abs=1e-9)
+                        assert at3[end][:2] == pytest.approx(top3[:2], abs=1e-9)
+                        assert top3[2] == pytest.approx(box[1][2], abs=1e-9)
+                        assert any(at3[end][0] == pytest.approx(box[e][0]) for e in (0, 1))
+                        assert any(at3[end][1] == pytest.approx(box[e][1]) for e in (0, 1))
+                        # 2D: the line from st along its axis meets the vertical through top
+                        d3 = at3[end] - at3[st]
+                        far = _project(m, at3[st] + 3.0 * d3)
+                        down = _project(m, top3 - np.array([0.0, 0.0, 1.0]))
+                        p = _cross2(at2[st], far, top2, down)
+                        assert np.linalg.norm(p - at2[end]) <= 0.05, (view.name, s.index, x)
+                        cited[s.part] = end
+                        checked += 1
+                    said = re.match(r"Its bottom corner is ([A-Z]'*), on ", x)
+                    if said:
+                        assert s.part in cited
+                        assert np.linalg.norm(at2[said.group(1)] - _project(
+                            m, np.asarray([*at3[said.group(1)]]))) <= 0.05
+    assert checked == 4  # two views, two levels
+
+
+def _cross2(a, b, c, d):
+    """Where the line a-b crosses the line c-d (2D)."""
+    a, b, c, d = (np.asarray(v, float) for v in (a, b, c, d))
+    r, s = b - a, d - c
+    t = ((c[0] - a[0]) * s[1] - (c[1] - a[1]) * s[0]) / (r[0] * s[1] - r[1] * s[0])
+    return a + t * r

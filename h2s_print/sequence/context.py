@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Iterable, Sequence
 
@@ -45,6 +46,7 @@ from ..types import (
 )
 from .camera import _adjusted_parts, _fit_camera, _tolerance
 from .drafts import (
+    _CARRIES,
     _CITES,
     _DRAWS,
     MAX_STEP_WORDS,
@@ -158,10 +160,19 @@ def _by_eye_ellipses(d: _Draft) -> str:
                 "")
 
 
+def _unsaid(x: Spec) -> Spec:
+    """A carry sentence without what its lines place ("Carry XY vertically, as pictured.")."""
+    if not (x.key in _CARRIES and x.key.endswith("_for")):
+        return x
+    return spec(x.key[:-len("_for")], x.same, x.pair,
+                **{k: v for k, v in x.fields if k != "sides"})
+
+
 def _stands_on_floor(d: _Draft) -> bool:
     """Does draft ``d`` stand a part on the floor the sheet prints ("Its bottom stands on the
     floor")?"""
-    return any(x.key == "on_floor" for x in d.specs)
+    return any(x.key in ("on_floor", "floor_line", "floor_line_end", "floor_back")
+               for x in d.specs)
 
 
 def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
@@ -280,6 +291,84 @@ class _Context(_Repeats, _Ellipses):
         first, box = self.chosen[drawn[0]].box, self.chosen[part].box
         return (raised(*first, floor) and abs(box[0][2] - floor) <= self.tol
                 and not any(a.axis == 2 and a.end == "lo" for a in self.chosen[part].anchors))
+
+    def floor_unit(self, part: str, drawn: Sequence[str]) -> _Unit | None:
+        """The floor under ``part``'s nearest bottom corner, constructed from the floor
+        line's foot F (printed on the sheet under the first box's nearest corner C), for a
+        part standing on the floor (:meth:`on_floor`) whose top lies in the first box's
+        bottom face, anchored: from its top corner Q a line toward one vanishing point to
+        the first box's bottom edge through C (R), from F the floor line toward the other
+        (S, under R), R dropped to S, and from S back toward the first vanishing point to T,
+        under Q: its bottom corner.  Lines along which Q and C agree are left out.  None
+        otherwise (the sentence "Carry the blue floor line's foot to its bottom" stays).  A
+        read-through of stop 30: the table's leg and the desk's foot "carried the floor
+        line's foot" with no line drawn and no direction said."""
+        if not self.on_floor(part, drawn):
+            return None
+        cand = self.chosen[part]
+        if not any(a.axis == 2 and a.end == "hi" for a in cand.anchors):
+            return None
+        first = drawn[0]
+        lines = _first_lines(_scaffold(first, self.plan.primitive(first), self.chosen[first].box,
+                                       self.camera, self.tol), self.camera, self.floor_z(False))
+        if lines is None or lines.floor is None:
+            return None
+        (cx, cy, cz), foot = lines.floor
+        fz = float(foot[2])
+        lo, hi = self.chosen[first].box, cand.box
+        if abs(float(hi[1][2]) - cz) > self.tol:
+            return None  # its top is not in the first box's bottom face
+        eye = np.asarray(self.camera.position, dtype=float)
+        qx, qy = min(((float(x), float(y)) for x in (hi[0][0], hi[1][0])
+                      for y in (hi[0][1], hi[1][1])),
+                     key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+        if not (lo[0][0] - self.tol <= qx <= lo[1][0] + self.tol
+                and lo[0][1] - self.tol <= qy <= lo[1][1] + self.tol):
+            return None  # its corner is not over the first box's bottom face
+        q, c = (qx, qy), (float(cx), float(cy))
+        # from Q along axis `a` to C's edge, from F along the other: `a` is an axis along
+        # which Q and C agree where there is one (then one line: Q's own edge meets F's)
+        a = 1 if abs(q[0] - c[0]) > self.tol and abs(q[1] - c[1]) <= self.tol else 0
+        b = 1 - a
+
+        def pt(u: float, v: float, z: float) -> Vec3:
+            out = [0.0, 0.0, z]
+            out[a], out[b] = u, v
+            return (out[0], out[1], out[2])
+
+        Q = pt(q[a], q[b], cz)
+        R = pt(c[a], q[b], cz)  # on the first box's bottom edge through C along b
+        F = pt(c[a], c[b], fz)
+        S = pt(c[a], q[b], fz)
+        T = pt(q[a], q[b], fz)
+        owner = self.say(first)
+        specs: list[Spec] = []
+        out: list[_Line] = []
+        moved_a = abs(q[a] - c[a]) > self.tol
+        moved_b = abs(q[b] - c[b]) > self.tol
+        if not moved_a and not moved_b:
+            return None  # (its corner on the floor line itself: the line is the guide)
+        words = self.words
+        if moved_a:
+            specs.append(spec("floor_over", line=Pts((Q, R)), point=Pts((Q,)),
+                              vp=words.vp(a, Q, R), parent=owner))
+            out.append(_Line("vanishing", Q, R))
+        result = (F, S)  # the line whose end is the bottom corner
+        if moved_b:
+            specs.append(spec("floor_line" if moved_a else "floor_line_end", line=Pts((F, S)),
+                              point=Pts((F,)), vp=words.vp(b, F, S), end=Pts((S,))))
+            out.append(_Line("vanishing", F, S))
+            if moved_a:
+                specs.append(spec("floor_drop", line=Pts((R, S)), point=Pts((R,)),
+                                  other=Pts((F, S))))
+                out.append(_Line("vanishing", R, S))
+        if moved_a:
+            start = S if moved_b else F
+            specs.append(spec("floor_back", line=Pts((start, T)), point=Pts((start,)),
+                              vp=words.vp(a, start, T), end=Pts((T,)), through=Pts((Q,))))
+            out.append(_Line("vanishing", start, T))
+            result = (start, T)
+        return _Unit(first, specs, out, [result], floor=True)
 
     def floor_size(self, part: str, drawn: Sequence[str]) -> list[tuple[Spec, list[int]]]:
         """"Its bottom stands on the floor" (:meth:`on_floor`) as the first of the part's
@@ -865,11 +954,17 @@ class _Context(_Repeats, _Ellipses):
             if k and _too_small(self.camera, face.corners, k, self.settings.eyeball_mm2):
                 eyeball = True
         loose = self.loose_axes(cand)
+        # its bottom on the floor, found from the floor line's foot (its height is then
+        # constructed, not judged)
+        floor = None if eyeball else self.floor_unit(part, drawn)
+        if floor is not None:
+            loose = [a for a in loose if a != 2]
         # sizes judged by eye: compared with the parts it hangs off, then those it touches
         refs = _unique([self.by_id[a.parent].part for a in cand.anchors]
                        + [q for q in _touching(part, self.chosen, 100.0 * self.tol)
                           if q in drawn])
-        sizes = self.floor_size(part, drawn) + self.size_specs(part, loose, refs)
+        sizes = ([] if floor is not None else self.floor_size(part, drawn)) \
+            + self.size_specs(part, loose, refs)
 
         def by_eye(chosen: list[tuple[Spec, list[int]]]) -> tuple[list[Spec], str]:
             """The size sentences chosen, and the sizes left to the eye."""
@@ -910,6 +1005,7 @@ class _Context(_Repeats, _Ellipses):
         by_group: dict[tuple[int, int | None], tuple[list[_Line], list[Any]]] = {}
         carry_lines: list[_Line] = []
         carried_anchors: list[Any] = []  # the anchors whose lines are carried to the part
+        run_for: list[tuple[Vec3, Vec3, Any]] = []  # each carried line and an anchor it places
         for anchor, ppart, face, con, own, carry in built:
             unit = units.setdefault((anchor.parent, face.normal, face.end,
                                      points_key((con.result.start, con.result.end), self.tol)),
@@ -957,6 +1053,7 @@ class _Context(_Repeats, _Ellipses):
             unit.lines += own
             if carry:
                 carried_anchors.append(anchor)
+                run_for.append((a, b, anchor))
                 carry_lines += carry
                 axes = [_moving_axis(c) for c in carry]
                 first = axes[0]
@@ -1007,23 +1104,35 @@ class _Context(_Repeats, _Ellipses):
         carries = [(axis, turn, kept) for (axis, turn), runs in carried.items()
                    if (kept := [r for r in runs if turn is not None
                                 or not _runs_along(r, axis)])]
+
+        def moving(key: str, runs: Sequence[Pts], placing: Sequence[Pts] = (),
+                   **f: Any) -> Spec:
+            """A carry or extension sentence of ``runs``, saying what they (and the lines
+            ``placing`` it also moves) place ("Extend VX for its back, as pictured": a
+            read-through of the mixer's head could not tell which of three lines was its
+            back)."""
+            sides = _unique(self.anchor_side(an) for p, q, an in run_for
+                            if any(_same_segment(p, q, r.points[0], r.points[1], self.tol)
+                                   for r in [*runs, *placing]))
+            if sides:
+                return spec(key + "_for", lines=Many(tuple(runs)), part=name,
+                            sides=_join(sides), **f)
+            return spec(key, lines=Many(tuple(runs)), part=name, **f)
+
         if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
             (a0, _, r0), (a1, _, r1) = carries  # two directions: one sentence
-            carrying = [spec("carry_two", lines=Many(tuple(r0)), part=name,
-                             vp=words.vp(a0, *legs[a0, None][0]), lines2=Many(tuple(r1)),
-                             vp2=words.vp(a1, *legs[a1, None][0]))]
+            carrying = [moving("carry_two", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
+                               lines2=Many(tuple(r1)), vp2=words.vp(a1, *legs[a1, None][0]))]
         else:
-            carrying = [spec("carry", lines=Many(tuple(runs)), part=name,
-                             vp=words.vp(axis, *legs[axis, turn][0]))
+            carrying = [moving("carry", runs, vp=words.vp(axis, *legs[axis, turn][0]))
                         if turn is None else
-                        spec("carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
-                             lines=Many(tuple(runs)), part=name,
-                             vp=words.vp(axis, *legs[axis, turn][0]),
-                             vp2=words.vp(turn, *legs[axis, turn][-1]),
-                             turns=Many(tuple(corners[axis, turn])))
+                        moving("carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
+                               runs, vp=words.vp(axis, *legs[axis, turn][0]),
+                               vp2=words.vp(turn, *legs[axis, turn][-1]),
+                               turns=Many(tuple(corners[axis, turn])))
                         for axis, turn, runs in carries]
         if extended:
-            carrying.append(spec("extend_to", lines=Many(tuple(extended)), part=name))
+            carrying.append(moving("extend_to", extended))
         carry_units: list[_Unit] = []
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             owner = self.by_id[cand.anchors[0].parent].part
@@ -1040,6 +1149,8 @@ class _Context(_Repeats, _Ellipses):
                                for x, (axis, turn, _) in zip(carrying, carries)]
             for k, u in enumerate(carry_units):
                 units[("carry", k)] = u
+        if floor is not None:
+            units[("floor", 0)] = floor
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
             if anchor.end == "mid":                       # straddles a line
@@ -1082,10 +1193,26 @@ class _Context(_Repeats, _Ellipses):
                 return _guides_of(n, total, part=name, the_parents=gparents)
             return _t("headline.guides", part=name, the_parents=gparents)
 
-        groups = self.pack(list(units.values()), closing, head, step, guides_head, cand.box)
-        if len(groups) > 2:  # numbered guides steps: their longer headlines counted too
-            groups = self.pack(list(units.values()), closing, head, step,
-                               lambda g: guides_head(g, 9, 9), cand.box)
+        def packed() -> list[list[_Unit]]:
+            groups = self.pack(list(units.values()), closing, head, step, guides_head, cand.box)
+            if len(groups) > 2:  # numbered guides steps: their longer headlines counted too
+                groups = self.pack(list(units.values()), closing, head, step,
+                                   lambda g: guides_head(g, 9, 9), cand.box)
+            return groups
+
+        groups = packed()
+        # carries saying what they place ("for its back") only where that costs no step
+        # (the roller's went over the issue's steps per shape)
+        saying = [list(u.specs) for u in carry_units]
+        if any(x.key.endswith("_for") for specs in saying for x in specs):
+            for u in carry_units:
+                u.specs = [_unsaid(x) for x in u.specs]
+            plain = packed()
+            if len(plain) < len(groups):
+                groups = plain
+            else:
+                for u, specs in zip(carry_units, saying):
+                    u.specs = specs
         drafts: list[_Draft] = []
         said: set = set()  # lines an earlier guides step of this part drew: not drawn again
         for k, group in enumerate(groups[:-1]):

@@ -147,10 +147,15 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
     moved_mids: dict[int, list[str]] = {}  # ... those of them that are middles
     moved = _carried(groups)
     edges: list[Spec] = []  # edges of drawn parts: no step drew them ("Use the edge AD")
+    floor: list[Spec] = []  # "Its bottom corner is G, on EG from step 3."
     for k, g in enumerate(groups):
         for u in g:
             for i, r in enumerate(u.results):
                 if tuple(r) in moved:
+                    continue
+                if u.floor:
+                    floor.append(spec("floor_reuse", line=Pts(r), point=Pts((r[1],)),
+                                      step=step + k))
                     continue
                 edge = next((x for x in u.specs if x.key == "edge"
                              and dict(x.fields)["line"].points == tuple(r)), None)
@@ -163,7 +168,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                         sides.setdefault(n, []).extend(side_of(a) for a in u.anchors)
             if any(x.key in _CARRIES for x in u.specs):
                 carried[step + k] = carried.get(step + k, False) or any(
-                    x.key in _CARRIES and x.key != "extend_to" for x in u.specs)
+                    x.key in _CARRIES and not x.key.startswith("extend_to") for x in u.specs)
                 if side_of is not None:
                     moved_sides.setdefault(step + k, []).extend(side_of(a) for a in u.carried_for)
                     moved_mids.setdefault(step + k, []).extend(
@@ -183,7 +188,7 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
         out.append(spec(f"{key}_for", step=n, sides=_join(said), each=tuple(said),
                         mids=tuple(dict.fromkeys(moved_mids.get(n, ()))))
                    if said else spec(key, step=n))
-    return out
+    return out + floor
 
 
 def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
@@ -204,7 +209,8 @@ def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
 
 
 #: Sub-steps that carry lines to the part (the carry unit's).
-_CARRIES = ("carry", "carry_two", "carry_turn", "carry_turn_eye", "extend_to")
+_CARRIES = ("carry", "carry_two", "carry_turn", "carry_turn_eye", "extend_to", "carry_for",
+            "carry_two_for", "carry_turn_for", "carry_turn_eye_for", "extend_to_for")
 
 
 def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:
@@ -231,6 +237,7 @@ class _Unit:
     anchors: list[Any] = field(default_factory=list)
     origin: dict[int, int] = field(default_factory=dict)  # result index -> step that drew it
     carried_for: list[Any] = field(default_factory=list)  # anchors whose lines it carries
+    floor: bool = False  # finds the part's bottom corner on the floor (its result's end)
 
 
 def _names_lines_of(u: _Unit, group: Sequence[_Unit], tol: float) -> bool:
