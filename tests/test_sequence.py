@@ -2944,3 +2944,44 @@ def _cross2(a, b, c, d):
     r, s = b - a, d - c
     t = ((c[0] - a[0]) * s[1] - (c[1] - a[1]) * s[0]) / (r[0] * s[1] - r[1] * s[0])
     return a + t * r
+
+
+def test_lines_carried_to_a_flat_part_end_in_its_drawn_plane(shared_models):
+    """A flat part fitted with some thickness (the chair's seat, 6 mm) is drawn as a
+    rectangle in its mid-plane; a line carried or extended to it ends there, not on the
+    fitted slab's face, which the page does not show (a read-through: "Extend QR as
+    pictured" ran a millimetre past the seat's drawn plane and reached nothing)."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    checked = 0
+    for model in ("chair_ingolf", "desk_fredrik", "box_ivar"):
+        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
+        plan = build_plan(t.model, t.solver, t.views)
+        chosen = plan.chosen()
+        for view in t.views:
+            vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+            for s in vp.steps:
+                if s.part is None or s.kind not in ("guides", "primitive"):
+                    continue
+                prim = plan.primitive(s.part)
+                if prim.type != "plane" or prim.axis is None:
+                    continue
+                n = prim.axis
+                lo, hi = chosen[s.part].box[0][n], chosen[s.part].box[1][n]
+                tol = 1e-9 + 1e-6 * abs(hi - lo)
+                # the planes other parts' boxes have there (a carry starts on a parent's face)
+                others = [c.box[e][n] for q, c in chosen.items() if q != s.part for e in (0, 1)]
+                for g in s.guides:
+                    if g.role != "vanishing" or g.status != "new":
+                        continue
+                    for p in (g.from3d, g.to3d):
+                        # on a face of the slab that the page does not draw, and no other
+                        # part's face either
+                        assert not (min(abs(p[n] - lo), abs(p[n] - hi)) <= tol
+                                    and not any(abs(p[n] - c) <= tol for c in others)), (
+                            model, view.name, s.index, s.text)
+                    checked += 1
+    assert checked >= 3

@@ -46,7 +46,9 @@ def _guide_points(plan: Any, camera: Camera, tol: float) -> np.ndarray:
                 continue
             parent = by_id[anchor.parent]
             pbox = _drawn_box(plan.primitive(parent.part), parent.box)
-            _, _, own, carry = _anchor_lines(anchor, pbox, cand.box, camera, tol)
+            _, _, own, carry = _anchor_lines(anchor, pbox,
+                                             _drawn_box(plan.primitive(cand.part), cand.box),
+                                             camera, tol)
             pts += [p for ln in own + carry for p in (ln.start, ln.end)]
     pts += _floor_points(plan)
     return np.array(pts, dtype=float).reshape(-1, 3)

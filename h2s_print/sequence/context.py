@@ -68,6 +68,7 @@ from .drafts import (
 from .ellipses import _Ellipses
 from .geometry import (
     ALONG_MM,
+    TINY_CARRY_MM,
     TINY_LOOP_MM,
     _anchor_lines,
     _box_corners,
@@ -84,6 +85,7 @@ from .geometry import (
     _runs_along,
     _same_segment,
     _scaffold,
+    _sheet_length,
     _too_small,
     _touching,
     _vec,
@@ -924,7 +926,10 @@ class _Context(_Repeats, _Ellipses):
                      anchor.axis, anchor.end == pend))
                 continue
             pbox = _drawn_box(self.plan.primitive(parent.part), parent.box)
-            face, con, own, carry = _anchor_lines(anchor, pbox, cand.box, self.camera, self.tol)
+            face, con, own, carry = _anchor_lines(anchor, pbox, _drawn_box(prim, cand.box),
+                                                  self.camera, self.tol)
+            if carry and sum(_sheet_length(self.camera, ln) for ln in carry) < TINY_CARRY_MM:
+                carry = []  # (the chair's seat: "Extend QR as pictured" by nothing visible)
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
                 faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con, own, carry))

@@ -24,6 +24,18 @@ TINY_LOOP_MM = 1.0
 MIN_FACE_WIDTH_MM = 3.0
 
 
+#: A carry whose lines are shorter than this on the sheet, together (mm), moves a line by
+#: about three pencil widths or less, nothing one draws on purpose: the line is used where
+#: it is ("Extend QR as pictured" by a millimetre, the chair's seat, a read-through).
+TINY_CARRY_MM = 1.5
+
+
+def _sheet_length(camera: Camera, line: Any) -> float:
+    """The length of a 3D line on the sheet, mm."""
+    a, b = camera.project(np.array([line.start, line.end], dtype=float))
+    return float(np.linalg.norm(b - a))
+
+
 def _vec(p: Any) -> Vec3:
     return (float(p[0]), float(p[1]), float(p[2]))
 
