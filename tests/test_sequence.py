@@ -2985,3 +2985,34 @@ def test_lines_carried_to_a_flat_part_end_in_its_drawn_plane(shared_models):
                             model, view.name, s.index, s.text)
                     checked += 1
     assert checked >= 3
+
+
+def test_copies_placed_on_some_axes_only_are_otherwise_as_pictured(examples, shared_models):
+    """"Knob 2 and knob 3: the same box, its back in line with the base body's front,
+    otherwise as pictured.": said only of copies whose anchors leave an axis unplaced (a
+    read-through: the desk's second foot, placed front to back only, said nothing of where
+    along the desk), where the step has room."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    cases = [(plan, vp) for (t, plan, views) in examples.values()
+             for (_, level), vp in views.items() if level == "novice"]
+    for model in ("oven_101773", "desk_fredrik"):
+        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
+        plan = build_plan(t.model, t.solver, t.views)
+        cases += [(plan, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
+                  for view in t.views]
+    said = 0
+    for plan, vp in cases:
+        chosen = plan.chosen()
+        for s in vp.steps:
+            for x in s.substeps:
+                if not re.search(r": the same .*, otherwise as pictured\.$", x):
+                    continue
+                copies = {st.part for st in s.strokes} - {s.part}
+                assert copies
+                assert any({a.axis for a in chosen[q].anchors} != {0, 1, 2} for q in copies), x
+                said += 1
+    assert said >= 2  # the oven's knobs, both views

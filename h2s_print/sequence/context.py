@@ -613,6 +613,15 @@ class _Context(_Repeats, _Ellipses):
                     return specs
         return build([])
 
+    def copies_pictured(self, specs: Sequence[Spec], headline: str) -> list[Spec]:
+        """``specs`` with copies placed on some axes only by their words said to be placed
+        otherwise as pictured ("Part 7: the same box, its middle (front to back) at half of
+        part 1's depth, otherwise as pictured."; a read-through found nothing saying where
+        along the desk), where the step has room: a size sentence is worth more."""
+        said = [spec(dict(x.fields)["pictured"], x.same, x.pair, **dict(x.fields))
+                if x.key == "repeat" and dict(x.fields).get("pictured") else x for x in specs]
+        return said if said != list(specs) and self.fits_levels(said, headline) else list(specs)
+
     def fits_levels(self, specs: Sequence[Spec], headline: str) -> bool:
         """Does a step of these sub-steps keep within :data:`MAX_STEP_WORDS` at novice and at
         apprentice (:func:`~h2s_print.instructions.brief_specs`)?"""
@@ -905,8 +914,9 @@ class _Context(_Repeats, _Ellipses):
                 return [placing, *where, *(x for x, _ in sizes), *repeat]
 
             loose = self.loose_axes(cand)
-            subs = self.lettered(self.sized(head, free, self.floor_size(part, drawn)
-                                            + self.size_specs(part, loose, refs), part, loose))
+            subs = self.lettered(self.copies_pictured(self.sized(
+                head, free, self.floor_size(part, drawn) + self.size_specs(part, loose, refs),
+                part, loose), head))
             return [_Draft(part, "primitive", False, (), strokes, head, subs,
                            _cap(lined_up) + "." if lined_up else "")]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
@@ -990,7 +1000,8 @@ class _Context(_Repeats, _Ellipses):
                 said, dims = by_eye(chosen)
                 return specs + said + ([spec("by_eye", dims=dims)] if dims else []) + list(repeat)
 
-            subs = self.lettered(self.sized(head, eyeballed, sizes, part, loose))
+            subs = self.lettered(self.copies_pictured(
+                self.sized(head, eyeballed, sizes, part, loose), head))
             return [_Draft(part, "primitive", True, (), strokes, head, subs, summary)]
         # Units of construction, one per parent face (lines shared on a face stay together).
         units: dict[tuple[str, int, str], _Unit] = {}
@@ -1262,7 +1273,7 @@ class _Context(_Repeats, _Ellipses):
                         for x in specs]
             if self.fits_levels(pictured, head):
                 specs = pictured
-        subs = self.lettered(specs)
+        subs = self.lettered(self.copies_pictured(specs, head))
         self.record(last, here, described)
         # the box is drawn on the carried lines: carried in a guides step, they stay (the
         # read-through found them erased before the step that uses them)

@@ -125,7 +125,15 @@ class _Repeats:
                 out.append(spec("repeat_shift", parts=who, shape=shape,
                                 shift=_raw("shifts")[where[1:]]))
             elif where:
-                out.append(spec("repeat", parts=who, shape=shape, where=where))
+                # an axis no anchor places: by the picture (a read-through: the desk's "Part 7:
+                # the same box, its middle (front to back) at half of part 1's depth" said
+                # nothing of where along the desk)
+                # (said where the step has room: _Context.copies_pictured)
+                open_ = any({a.axis for a in self.chosen[q].anchors} != {0, 1, 2} for q in qs)
+                pictured = ("repeat_pictured" if len(qs) > 1 else "repeat_pictured_one") \
+                    if open_ else ""
+                out.append(spec("repeat", parts=who, shape=shape, where=where,
+                                pictured=pictured))
             else:
                 out.append(spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
                                 shape=shape))
