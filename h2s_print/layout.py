@@ -52,11 +52,12 @@ Decisions where the brief is silent (documented here, kept in one place):
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import re
 from dataclasses import dataclass, replace
-from typing import Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
 
@@ -279,13 +280,25 @@ def wrap(string: str, width_mm: float, size_pt: float, font: str = "Helvetica") 
     """Greedy word wrap of ``string`` into lines no wider than ``width_mm`` (long words split);
     lines break at plain spaces only, never at a no-break space (French « : », Russian
     «с. 3»)."""
-    words = [w for w in re.split(r"[ \t\n\r]+", plain_text(string)) if w]
+    return list(_wrapped(plain_text(string), width_mm, size_pt, font, fonts.current()))
+
+
+@functools.lru_cache(maxsize=1 << 12)
+def _wrapped(text: str, width_mm: float, size_pt: float, font: str,
+             spec: fonts.FontSpec) -> tuple[str, ...]:
+    """:func:`wrap` of plain ``text`` measured in ``spec``, remembered: layout wraps the same
+    texts at the same widths again and again while it fits them (the example book: 6119
+    wraps of 1192 distinct ones, 155 000 widths measured)."""
+    def width(s: str) -> float:
+        return fonts.width_mm(s, size_pt, font, spec)
+
+    words = [w for w in re.split(r"[ \t\n\r]+", text) if w]
     lines: list[str] = []
     line = ""
     for word in words:
-        while text_width_mm(word, size_pt, font) > width_mm and len(word) > 1:
+        while width(word) > width_mm and len(word) > 1:
             cut = len(word) - 1
-            while cut > 1 and text_width_mm(word[:cut], size_pt, font) > width_mm:
+            while cut > 1 and width(word[:cut]) > width_mm:
                 cut -= 1
             if line:
                 lines.append(line)
@@ -293,14 +306,14 @@ def wrap(string: str, width_mm: float, size_pt: float, font: str = "Helvetica") 
             lines.append(word[:cut])
             word = word[cut:]
         trial = f"{line} {word}" if line else word
-        if text_width_mm(trial, size_pt, font) <= width_mm:
+        if width(trial) <= width_mm:
             line = trial
         else:
             lines.append(line)
             line = word
     if line:
         lines.append(line)
-    return lines
+    return tuple(lines)
 
 
 def fit_line(string: str, width_mm: float, size_pt: float, font: str = "Helvetica",
@@ -573,17 +586,19 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
 
 
 def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
-                room: Box2 | None = None) -> list[Item]:
+                room: Box2 | None = None,
+                memo: dict[Any, Any] | None = None
+                ) -> list[Item]:
     """The cumulative drawing at step ``i`` (0-based) in ``view``, lettered; crowded letters,
     or a part too small to follow, go in a close-up (:func:`_close_up`), beside the picture
-    within ``room`` or in it."""
+    within ``room`` or in it.  ``memo``: :func:`_drawing`'s."""
     step = plan.steps[i]
     items: list[Item] = _sheet_background(view, plan.paper_mm, margin)
-    drawing = _drawing(view, plan, i)
+    drawing = _drawing(view, plan, i, memo)
     items += drawing
     # each line's segments once: all of them, the object's lines and the paper corners (what a
     # close-up must not hide), the step's new lines (what a letter keeps off)
-    lines_of = [(it, _segments((it,))) for it in items if isinstance(it, Polyline)]
+    lines_of = [(it, _segments_memo(it, memo)) for it in items if isinstance(it, Polyline)]
     segs = _stack([a for _, a in lines_of])
     kept = _stack([a for it, a in lines_of if it.role.startswith("stroke") or it.role == "corner"])
     new = _stack([a for it, a in lines_of if it.role == "stroke_new"])
@@ -635,6 +650,20 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
         return items + lines + [frames[1]] + close
     items.append(_close_up_caption(view.rect, zview.rect))
     return items + lines + [frames[1]] + close
+
+
+def _segments_memo(line: Polyline, memo: dict[Any, Any] | None) -> np.ndarray:
+    """``_segments((line,))``, kept in ``memo`` by the line's id (with the line, so that the
+    id stays its own): an earlier stroke's lines come back from :func:`_drawing`'s memo at
+    every later step."""
+    if memo is None:
+        return _segments((line,))
+    known = memo.get(id(line))
+    if known is not None and known[0] is line:
+        return known[1]
+    segs = _segments((line,))
+    memo[id(line)] = (line, segs)
+    return segs
 
 
 def _close_up_caption(picture: Box2, box: Box2) -> Text:
@@ -832,17 +861,30 @@ def _place_close_up(view: _View, step: Step, region: Box2, wanted: float, crowde
     return _View(window, best[1])
 
 
-def _drawing(view: _View, plan: ViewPlan, i: int) -> list[Item]:
-    """The lines of the picture at step ``i`` in ``view`` (no sheet, no letters)."""
+def _drawing(view: _View, plan: ViewPlan, i: int,
+             memo: dict[Any, Any] | None = None
+             ) -> list[Item]:
+    """The lines of the picture at step ``i`` in ``view`` (no sheet, no letters).
+
+    ``memo`` (one per workbook, :func:`_step_pages`) keeps each earlier stroke's lines in a
+    view: every later step of the workbook draws them again, the same (the train's novice
+    workbook mapped its first strokes 19 times)."""
     step = plan.steps[i]
     items: list[Item] = _vanishing_lines(view, plan, step.strokes)
     # Earlier lines: the scaffold grey (its hidden edges dotted, fainter), contours already
     # drawn in ink, so the object emerges from its scaffold as in the paper's figures.
     for earlier in plan.steps[:i]:
         for s in earlier.strokes:
+            known = memo.get((view, id(s))) if memo is not None else None
+            if known is not None and known[0] is s:
+                items += known[1]
+                continue
             key = {"contour": "ink", "scaffold_hidden": "earlier_hidden",
                    "ellipse_hidden": "earlier_hidden"}.get(s.kind, "earlier")
-            items += view.lines(s.points_mm, STYLES[key], f"stroke_{key}")
+            lines = view.lines(s.points_mm, STYLES[key], f"stroke_{key}")
+            if memo is not None:  # the stroke kept with its lines: its id stays its own
+                memo[(view, id(s))] = (s, lines)
+            items += lines
     guides = _step_guides(plan, i)
     for g, key in guides:
         if key != "guide_sheet":
@@ -1542,6 +1584,7 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: s
     legend_keys = _legend_keys(plan)
     slots, views, _ = _step_geometry(f, plan, hints)
     margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
+    memo: dict[Any, Any] = {}  # _drawing's and _step_panel's
     for first in range(0, n, per):
         idx = list(range(first, min(n, first + per)))
         if len(idx) == 1:
@@ -1562,7 +1605,7 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: s
         for (step, hint), slot, view, i in zip(texts, slots, views, idx):
             sx0 = slot[0]
             items += _step_panel(view, plan, i, margin_sheet, (slot[0], view.rect[1],
-                                                               slot[2], view.rect[3]))
+                                                               slot[2], view.rect[3]), memo)
             ttop = view.rect[1] - 3.0
             items.append(Text(sx0, ttop - 0.72 * 12 * PT_MM, _t("step.number", index=step.index),
                               12, "Helvetica-Bold", "start", "black", "step_number"))
