@@ -1182,6 +1182,7 @@ PRIMER_RATIOS: tuple[tuple[str, tuple[float, ...]], ...] = (
 )
 
 
+@functools.lru_cache(maxsize=1)
 def primer_diagrams() -> tuple[PrimerDiagram, ...]:
     """The primer's constructions, built in 3D on one box face and projected (two-point view).
 
@@ -1190,7 +1191,8 @@ def primer_diagrams() -> tuple[PrimerDiagram, ...]:
     lines once), projected by a camera from ``h2s_print.project.make_camera``; so every crossing
     the diagram shows is where a ruler construction on paper lands.  Extensions also show the
     new face's top and bottom edges as results.  Coordinates are that camera's sheet mm (the
-    page fits them into a cell).
+    page fits them into a cell).  They depend on nothing but constants: made once (every
+    workbook's primer shows them).
     """
     face = Face(((0.0, 0.0, 0.0), (1.0, 1.0, 1.25)), 1, "lo")
     frame = [face.point(u, v) for u in (0.0, 2.0) for v in (0.0, 1.0)]
@@ -1576,13 +1578,15 @@ def _step_geometry(f: _Frame, plan: ViewPlan, hints: Sequence[str]
 
 
 def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str,
-                hints: Sequence[str]) -> list[Page]:
+                hints: Sequence[str],
+                geometry: tuple[list[Box2], list[_View], float]) -> list[Page]:
+    """The step pages; ``geometry``: :func:`_step_geometry`'s."""
     n = len(plan.steps)
     per = _steps_per_page(plan)
     size = 11.0 if per == 1 else 10.0
     pages = []
     legend_keys = _legend_keys(plan)
-    slots, views, _ = _step_geometry(f, plan, hints)
+    slots, views, _ = geometry
     margin_sheet = f.margin  # the tutorial's sheet has the same margins as the workbook paper
     memo: dict[Any, Any] = {}  # _drawing's and _step_panel's
     for first in range(0, n, per):
@@ -1620,13 +1624,13 @@ def _step_pages(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: s
 
 
 def _final_page(f: _Frame, title: str, plan: ViewPlan, view_label: str, level: str,
-                final: Sequence[Stroke], hints: Sequence[str]) -> Page:
+                final: Sequence[Stroke], view: _View) -> Page:
+    """The finished drawing, in ``view``: the step pages' first picture, same place."""
     items: list[Item] = []
     head, top = _header(f, _t("final.heading"),
                         _t("step.header", title=title, view=view_label, level=level))
     items += head
     x0, _, x1, _ = f.box
-    view = _step_geometry(f, plan, hints)[1][0]  # the step pages' picture: same place
     items += _sheet_background(view, plan.paper_mm, f.margin)
     for s in _final_strokes(plan, final):
         items += view.lines(s.points_mm, STYLES["final"], "stroke_final")
@@ -1692,8 +1696,9 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
     if plan.level != "basic":  # the control condition gets no How2Sketch constructions
         pages.append(_primer_page(f, title, right, primer_diagrams()))
     hints = _erase_hints(plan)
-    pages += _step_pages(f, title, plan, view_label, level, hints)
-    pages.append(_final_page(f, title, plan, view_label, level, final, hints))
+    geometry = _step_geometry(f, plan, hints)  # the step pages' and the finished drawing's
+    pages += _step_pages(f, title, plan, view_label, level, hints, geometry)
+    pages.append(_final_page(f, title, plan, view_label, level, final, geometry[1][0]))
     from .sheet import lay_out_sheet  # (the sheet's module builds on this one)
 
     pages.append(lay_out_sheet(title, plan, margin_mm=sheet_margin, view_label=view_label,

@@ -229,25 +229,54 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
         return ok
 
     offsets = _LABEL_SHIFTS[vertical]
-    free = np.ones(len(offsets), dtype=bool)
+    middles = None
     if inside is not None and len(inside) >= 3:  # places whose texts' middles are all outside
         middles = np.array([((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
                             for b in (t.box_mm for t in block)])
-        at = (offsets[:, None, :] + middles[None, :, :]).reshape(-1, 2)
-        free = ~_in_convex_all(inside, at).reshape(len(offsets), len(block)).any(axis=1)
-    tried = offsets[free]
-    if within is not None:
-        tried = tried[np.hypot(tried[:, 0], tried[:, 1]) <= within]
+
+    def usable(shifts: np.ndarray) -> np.ndarray:
+        """The shifts (in order) the search may try: outside ``inside``, within ``within``."""
+        if middles is not None:
+            at = (shifts[:, None, :] + middles[None, :, :]).reshape(-1, 2)
+            shifts = shifts[~_in_convex_all(inside, at).reshape(len(shifts), len(block))
+                            .any(axis=1)]
+        if within is not None:
+            shifts = shifts[np.hypot(shifts[:, 0], shifts[:, 1]) <= within]
+        return shifts
+
+    # the places tried, made as far as the search reaches (nearly every block fits among the
+    # first few): each shift's test is its own, so the places are those of all at once
+    made: list[np.ndarray] = []
+    n_made, done = 0, 0
+
+    def tried(stop: int | None) -> np.ndarray:
+        """The first ``stop`` places tried (None: all of them)."""
+        nonlocal n_made, done
+        while done < len(offsets) and (stop is None or n_made < stop):
+            more = usable(offsets[done:done + _SHIFTS_AT_ONCE])
+            made.append(more)
+            n_made += len(more)
+            done += _SHIFTS_AT_ONCE
+        return np.concatenate(made) if len(made) != 1 else made[0]
+
     start = 0
-    for size in (64, 256, len(tried)):  # nearest first, the nearest few places alone first
-        fit = np.flatnonzero(clear(tried[start:start + size]))
+    for size in (64, 256, None):  # nearest first, the nearest few places alone first
+        places = tried(None if size is None else start + size)
+        fit = np.flatnonzero(clear(places[start:] if size is None
+                                   else places[start:start + size]))
         if len(fit):
-            dx, dy = tried[start + int(fit[0])].tolist()
+            dx, dy = places[start + int(fit[0])].tolist()
             return [replace(t, x_mm=t.x_mm + dx, y_mm=t.y_mm + dy) for t in block]
+        if size is None:
+            break
         start += size
-        if start >= len(tried):
+        if done >= len(offsets) and start >= n_made:
             break
     return None
+
+
+#: Shifts :func:`_clear_of_texts` tests against ``inside`` at a time.
+_SHIFTS_AT_ONCE = 320
 
 
 def _label_shifts(vertical: bool) -> np.ndarray:
