@@ -957,14 +957,19 @@ def _crossings_many(segs: np.ndarray, boxes: Sequence[Box2]) -> np.ndarray:
         return np.zeros(len(boxes), dtype=int)
     segs, lo_x, hi_x, lo_y, hi_y = (a[reach] for a in (segs, lo_x, hi_x, lo_y, hi_y))
     b = bb[:, :, None]  # (k, 4, 1)
-    sx0, sy0, sx1, sy1 = segs.T  # (n,)
     near = ((lo_x <= b[:, 2]) & (hi_x >= b[:, 0])
             & (lo_y <= b[:, 3]) & (hi_y >= b[:, 1]))  # (k, n)
+    # the corners' sides only for the (box, segment) pairs whose ranges overlap: few of all
+    k, n = np.nonzero(near)
+    if not len(k):
+        return np.zeros(len(boxes), dtype=int)
+    sx0, sy0, sx1, sy1 = segs[n].T  # (pairs,)
     dx, dy = sx1 - sx0, sy1 - sy0
-    corners = ((b[:, 0], b[:, 1]), (b[:, 2], b[:, 1]), (b[:, 2], b[:, 3]), (b[:, 0], b[:, 3]))
-    sides = np.stack([dx * (cy - sy0) - dy * (cx - sx0) for cx, cy in corners])  # (4, k, n)
+    x0, y0, x1, y1 = bb[k].T
+    sides = np.stack([dx * (cy - sy0) - dy * (cx - sx0)
+                      for cx, cy in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))])  # (4, pairs)
     cut = ~((sides > 0).all(axis=0) | (sides < 0).all(axis=0))
-    return np.count_nonzero(near & cut, axis=1)
+    return np.bincount(k[cut], minlength=len(boxes))
 
 
 def _boxes_overlap(a: Box2, b: Box2) -> bool:
