@@ -1187,3 +1187,35 @@ def test_a_vanishing_points_label_sits_beside_its_arrow(examples):
                 assert d <= 20.0, (name, view.name, label, d)
                 checked += 1
     assert checked >= 6
+
+
+def test_crossings_many_is_the_definition_pair_by_pair():
+    """Issue 13: the counts, worked out only for the pairs whose ranges overlap, are those of
+    the definition, one (box, segment) pair at a time: the x and y ranges overlap and the
+    box's four corners are not all strictly on one side of the segment's line.  Seeded
+    boxes and segments on a coarse grid, so that touching, collinear and zero-length ones
+    occur."""
+    rng = np.random.default_rng(13)
+
+    def meets(seg, box):
+        sx0, sy0, sx1, sy1 = seg
+        x0, y0, x1, y1 = box
+        if not (min(sx0, sx1) <= x1 and max(sx0, sx1) >= x0
+                and min(sy0, sy1) <= y1 and max(sy0, sy1) >= y0):
+            return False
+        dx, dy = sx1 - sx0, sy1 - sy0
+        sides = [dx * (cy - sy0) - dy * (cx - sx0)
+                 for cx, cy in ((x0, y0), (x1, y0), (x1, y1), (x0, y1))]
+        return not (all(s > 0 for s in sides) or all(s < 0 for s in sides))
+
+    touching = 0
+    for trial in range(300):
+        n, k = int(rng.integers(0, 40)), int(rng.integers(1, 10))
+        segs = rng.integers(0, 8, size=(n, 4)).astype(float) * (0.5 if trial % 2 else 1.0)
+        lo = rng.integers(0, 8, size=(k, 2)).astype(float)
+        size = rng.integers(0, 4, size=(k, 2)).astype(float)
+        boxes = [(a, b, a + w, b + h) for (a, b), (w, h) in zip(lo.tolist(), size.tolist())]
+        want = [sum(meets(tuple(s), box) for s in segs.tolist()) for box in boxes]
+        assert L._crossings_many(segs, boxes).tolist() == want, trial
+        touching += sum(want)
+    assert touching > 100  # the cases do meet
