@@ -164,9 +164,6 @@ DEGENERATE = 1e-9
 OPTIONS_PER_AXIS = 3
 #: ... and per axis in all (so at most (1 + AXIS_OPTIONS)^3 combinations per part and level).
 AXIS_OPTIONS = 6
-#: :meth:`_Generator.ranked_axis_options` ranks up to this many rows (pairs of ends and single
-#: ends) one at a time, more on arrays (the same options either way).
-FEW_ROWS = 64
 #: Candidates kept per part and level (best weighted cost first).
 CANDIDATES_PER_PART = 16
 #: Candidates per part (of the previous level) that may act as parents of the next level.
@@ -837,8 +834,6 @@ class _Generator:
         if not pool:
             return []
         n_lo, n_hi = len(ends["lo"]), len(ends["hi"])
-        if n_lo * n_hi + len(pool) <= FEW_ROWS:
-            return self._ranked_few(part, axis, pool, n_lo, n_hi, fresh, per_group, total)
         value = np.array([e.value for e in pool])
         pp = self._codes([e.parent_part for e in pool])  # parent part, by code
         parent = self._codes([e.anchor.parent for e in pool])  # parent candidate, by code
@@ -959,157 +954,6 @@ class _Generator:
         rows = order[kept_at].tolist()
         return [self._option(pool, int(first[x]), int(second[x]), float(los[x]),
                              float(his[x]), int(free[x]), axis, orig) for x in rows]
-
-    def _ranked_few(self, part: str, axis: int, pool: Sequence[_End], n_lo: int, n_hi: int,
-                    fresh: frozenset[str], per_group: int, total: int | None
-                    ) -> list[_AxisOption]:
-        """:meth:`ranked_axis_options` of a small ``pool`` (its ``lo`` ends, then ``hi``, then
-        ``mid``), one row at a time: the same rows in the same order, the same floating-point
-        operations on each, the same ranks and groups.  On a few ends the arrays' fixed cost
-        was most of the generator's time (gen40: 4121 of 5824 calls had under 10 ends, 250 µs
-        a call).  ``test_candidates`` checks the two give equal options on every call."""
-        orig = self.ctx.prims[part].box
-        mc = self.ctx.settings.max_change
-        lo0, hi0 = orig[0][axis], orig[1][axis]
-        length = hi0 - lo0
-        n = len(pool)
-        value = [e.value for e in pool]
-        pp_index: dict[str, int] = {}
-        pp = [pp_index.setdefault(e.parent_part, len(pp_index)) for e in pool]
-        parent_index: dict[str, int] = {}
-        parent = [parent_index.setdefault(e.anchor.parent, len(parent_index)) for e in pool]
-        base, ext, mid = _change_terms(orig, axis, mc)
-        # rows (first end, second end or -1, lo, hi, free ends), as the arrays list them
-        first: list[int] = []
-        second: list[int] = []
-        los: list[float] = []
-        his: list[float] = []
-        free: list[int] = []
-        if _is_flat(orig, axis):
-            for i in range(n_lo):
-                first.append(i), second.append(i), los.append(value[i]), his.append(value[i])
-                free.append(0)
-        else:
-            degenerate = DEGENERATE * max(length, 1e-300)
-            for i in range(n_lo):
-                lv = value[i]
-                for j in range(n_lo, n_lo + n_hi):
-                    hv = value[j]
-                    limit = base + _EPS * max(1.0, max(abs(lv), abs(hv)))
-                    if not (abs((hv - lv) - ext) <= limit and abs(0.5 * (lv + hv) - mid) <= limit):
-                        continue
-                    if (pp[i] == pp[j] and parent[i] != parent[j]) or hv - lv <= degenerate:
-                        continue
-                    first.append(i), second.append(j), los.append(lv), his.append(hv)
-                    free.append(0)
-            for x in range(n):
-                v = value[x]
-                if x < n_lo:
-                    lo, hi = v, v + length
-                elif x < n_lo + n_hi:
-                    lo, hi = v - length, v
-                else:
-                    lo, hi = v - 0.5 * length, v + 0.5 * length
-                first.append(x), second.append(-1), los.append(lo), his.append(hi)
-                free.append(1)
-        # within the change limit
-        rows = []
-        for r in range(len(first)):
-            lo, hi = los[r], his[r]
-            limit = base + _EPS * max(1.0, max(abs(lo), abs(hi)))
-            if abs((hi - lo) - ext) <= limit and abs(0.5 * (lo + hi) - mid) <= limit:
-                rows.append(r)
-        if not rows:
-            return []
-        first = [first[r] for r in rows]
-        second = [second[r] for r in rows]
-        los = [los[r] for r in rows]
-        his = [his[r] for r in rows]
-        free = [free[r] for r in rows]
-        m = len(first)
-        two = [x >= 0 for x in second]
-        sec = [second[r] if two[r] else first[r] for r in range(m)]
-        valid = [True] * m
-        # along this axis, the preserved relations with the parents (per parent candidate,
-        # in code order: each code's first end names its parent)
-        pairs = self.preserved_pairs()
-        at_first: dict[int, int] = {}
-        for x, c in enumerate(parent):
-            at_first.setdefault(c, x)
-        for c in sorted(at_first):
-            e = at_first[c]
-            rels = pairs.get((part, pool[e].parent_part), ())
-            if not rels:
-                continue
-            uses = [r for r in range(m)
-                    if parent[first[r]] == c or (two[r] and parent[sec[r]] == c)]
-            if not uses:
-                continue
-            pbox = self.ctx.cands[pool[e].anchor.parent].box
-            p_lo, p_hi = pbox[0][axis], pbox[1][axis]
-            for r in uses:
-                o_lo, o_hi = los[r], his[r]
-                for rel in rels:
-                    if not bool(_relation_axis_holds_on(rel, axis, o_lo, o_hi, p_lo, p_hi)
-                                if rel.a == part else
-                                _relation_axis_holds_on(rel, axis, p_lo, p_hi, o_lo, o_hi)):
-                        valid[r] = False
-        # E_d of the axis and E_e (the construction lines), as the arrays compute them
-        norm = _norm_length(orig, axis)
-        o_ext, o_mid = _extent(orig, axis), _mid(orig, axis)
-        a_ref, floor = self.ctx.a_ref, 1e-6 * self.ctx.a_ref
-        face_index: dict[tuple, int] = {}
-        face = [face_index.setdefault((e.anchor.parent, e.anchor.face_normal,
-                                       e.anchor.face_side), len(face_index)) for e in pool]
-        ratio = [e.anchor.ratio for e in pool]
-        area = [max(e.face_area, floor) for e in pool]
-        one = [float(_lines_of((ratio[x],))) * a_ref / area[x] for x in range(n)]
-        guide_cost = self.ctx.settings.guide_cost
-        score = []
-        for r in range(m):
-            lo, hi, i, j = los[r], his[r], first[r], sec[r]
-            cost = abs((hi - lo) - o_ext) / norm + abs(0.5 * (lo + hi) - o_mid) / norm + free[r]
-            if two[r] and face[i] == face[j]:
-                diff = float(_lines_of((ratio[i], ratio[j]))) * a_ref / area[j]
-            else:
-                diff = one[i] + (one[j] if two[r] else 0.0)
-            diff = diff * guide_cost
-            score.append(self.w_a * cost + self.w_d * diff)
-        # ties on (score, lo, hi) go by the anchors' keys, as the arrays rank them
-        key_rank = [0] * n
-        for k, x in enumerate(sorted(range(n), key=lambda x: _anchor_key(pool[x].anchor))):
-            key_rank[x] = k
-        r_first = [key_rank[first[r]] for r in range(m)]
-        r_second = [key_rank[sec[r]] if two[r] and second[r] != first[r] else -1
-                    for r in range(m)]
-        order = sorted(range(m), key=lambda r: (score[r], los[r], his[r], r_first[r],
-                                                 r_second[r]))
-        order = [r for r in order if valid[r]]
-        if not order:
-            return []
-        if total is None:
-            group = [0] * len(order)
-        else:
-            n_codes = max(pp) + 2
-            group = []
-            for r in order:
-                g_first = pp[first[r]]
-                g_second = pp[sec[r]] if two[r] else -1
-                g_lo = min(g_first, g_second if two[r] else g_first)
-                g_hi = max(g_first, g_second)
-                g_fresh = bool(fresh) and (pool[first[r]].anchor.parent in fresh
-                                           or (two[r] and pool[sec[r]].anchor.parent in fresh))
-                group.append(((g_lo + 1) * n_codes + (g_hi + 1)) * 2 + int(g_fresh))
-        seen: dict[int, int] = {}
-        place = []
-        for g in group:
-            place.append(seen.get(g, 0))
-            seen[g] = place[-1] + 1
-        kept_at = [k for k in range(len(order)) if place[k] < per_group]
-        if total is not None:
-            kept_at = sorted(sorted(kept_at, key=lambda k: (place[k], k))[:total])
-        return [self._option(pool, first[r], second[r], los[r], his[r], free[r], axis, orig)
-                for r in (order[k] for k in kept_at)]
 
     def _option(self, pool: Sequence[_End], i: int, j: int, lo: float, hi: float, free: int,
                 axis: int, orig: Box) -> _AxisOption:

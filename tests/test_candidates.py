@@ -519,31 +519,6 @@ def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
     assert len(checked) > 10 and sum(checked) > 30
 
 
-@pytest.mark.parametrize("model", ["camera", "shared-faces"])
-def test_ranked_axis_options_few_rows_equal_the_arrays(model, monkeypatch):
-    """Issue 13: a small pool's options, ranked one row at a time (``_ranked_few``), are
-    exactly the arrays' (every field, floats bit for bit), on every call of a whole
-    generation with either way forced for every pool."""
-    from h2s_print import candidates as C
-
-    prims, rels = _generator_model(model)
-    ranked = C._Generator.ranked_axis_options
-    checked = []
-
-    def both(self, part, axis, ends, fresh, per_group, total):
-        monkeypatch.setattr(C, "FEW_ROWS", -1)  # arrays
-        want = ranked(self, part, axis, ends, fresh, per_group, total)
-        monkeypatch.setattr(C, "FEW_ROWS", 10 ** 9)  # one row at a time
-        got = ranked(self, part, axis, ends, fresh, per_group, total)
-        assert got == want, (part, axis)
-        checked.append(len(want))
-        return want
-
-    monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
-    generate_candidates(prims, rels, SolverSettings())
-    assert len(checked) > 10 and sum(checked) > 30
-
-
 @pytest.mark.parametrize("kind", ["coplanar", "bisector", "coaxial"])
 def test_relation_holds_table_is_relation_holds_for_every_pair(kind):
     """The selection stage's conflicts are computed on arrays (issue 13): the table equals
