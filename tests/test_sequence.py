@@ -7,6 +7,7 @@ rule, anchor guides against the plan.json ratio contract.
 
 from __future__ import annotations
 
+import functools
 import json
 import logging
 import math
@@ -2757,26 +2758,42 @@ def _along_box_edge(p, q, box, tol) -> bool:
     return all(lo[k] - tol <= v <= hi[k] + tol for v in (p[k], q[k]))
 
 
+@functools.cache
+def _public(model: str):
+    """A public benchmark model's tutorial, plan and novice view plans (built once)."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    return t, plan, tuple((view, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
+                          for view in t.views)
+
+
+def _novice_cases(examples, models):
+    """(name, tutorial, plan, view, novice view plan) of the examples and public ``models``."""
+    out = []
+    for name, (t, plan, views) in examples.items():
+        by_name = {v.name: v for v in t.views}
+        out += [(name, t, plan, by_name[view], vp) for (view, level), vp in views.items()
+                if level == "novice"]
+    for model in models:
+        t, plan, views = _public(model)
+        out += [(model, t, plan, view, vp) for view, vp in views]
+    return out
+
+
 def test_no_carry_runs_along_an_edge_already_drawn(examples, shared_models):
     """A line carried to a part never runs along an edge of a box drawn before: it would
     draw nothing new (a read-through: the chair's back rail, "Carry ST and RT toward the left
     vanishing point", along the seat's own side edges; the camera's prism, the lens's top
     edges).  An end in line with a parent's edge takes the edge from the parent's face
     nearest the part."""
-    from conftest import CONFIGS
-
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
-
-    cases = [(name, t, plan, vp) for name, (t, plan, views) in examples.items()
-             for (view, level), vp in views.items() if level == "novice"]
-    for model in ("chair_ingolf", "desk_fredrik", "table_lack"):
-        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
-        plan = build_plan(t.model, t.solver, t.views)
-        cases += [(model, t, plan, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
-                  for view in t.views]
+    cases = _novice_cases(examples, ("chair_ingolf", "desk_fredrik", "table_lack"))
     checked = 0
-    for name, t, plan, vp in cases:
+    for name, t, plan, _, vp in cases:
         chosen = plan.chosen()
         tol = 1e-6 * float(np.ptp(np.asarray(plan.model.bounds), axis=0).max())
         drawn: list = []
@@ -2798,19 +2815,9 @@ def test_an_edge_the_text_names_is_an_edge_on_the_paper(examples, shared_models)
     before (a box's edge, 0.05 mm on the page).  The IVAR box's base board, fitted with a
     thickness and drawn as a flat rectangle in its mid-plane, had its edges constructed on
     the board's top face: A and B 2-4 mm off the drawn corners."""
-    from conftest import CONFIGS
-
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
-
-    cases = [(name, vp) for name, (_, _, views) in examples.items()
-             for (_, level), vp in views.items() if level == "novice"]
-    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "box_ivar.yaml")
-    plan = build_plan(t.model, t.solver, t.views)
-    cases += [("box_ivar", seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
-              for view in t.views]
+    cases = _novice_cases(examples, ("box_ivar",))
     checked = set()
-    for name, vp in cases:
+    for name, _, _, _, vp in cases:
         drawn: list = []
         for s in vp.steps:
             at = {lb.name: lb.at_mm for lb in s.labels if lb.kind == "point"}
@@ -2840,21 +2847,9 @@ def test_a_carry_says_what_its_lines_place(examples, shared_models):
     said has a named line at that side's coordinate of the part's box (a carry keeps it;
     checked on the lettered points in 3D), and every named line is at some side said (a
     read-through could not tell which of the mixer head's three lines was its back)."""
-    from conftest import CONFIGS
-
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
-
-    cases = [(t, plan, t.views[[v.name for v in t.views].index(view)], vp)
-             for (t, plan, views) in examples.values()
-             for (view, level), vp in views.items() if level == "novice"]
-    for model in ("chair_ingolf", "desk_fredrik"):
-        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
-        plan = build_plan(t.model, t.solver, t.views)
-        cases += [(t, plan, view, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
-                  for view in t.views]
+    cases = _novice_cases(examples, ("chair_ingolf", "desk_fredrik"))
     said = 0
-    for t, plan, view, vp in cases:
+    for _, t, plan, view, vp in cases:
         names = side_names(t, plan, view)
         chosen = plan.chosen()
         for s in vp.steps:
@@ -2886,13 +2881,7 @@ def test_the_floor_under_a_part_is_constructed_from_the_floor_line(shared_models
     the last line (toward a vanishing point, from the point the step names) crosses the
     vertical through the top corner, redone in 2D from projected points (a read-through:
     "Carry the blue floor line's foot to its bottom" drew no line)."""
-    from conftest import CONFIGS
-
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
-
-    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "table_lack.yaml")
-    plan = build_plan(t.model, t.solver, t.views)
+    t, plan, _ = _public("table_lack")
     floor = min(c.box[0][2] for c in plan.chosen().values())
     checked = 0
     for view in t.views:
@@ -2951,39 +2940,31 @@ def test_lines_carried_to_a_flat_part_end_in_its_drawn_plane(shared_models):
     rectangle in its mid-plane; a line carried or extended to it ends there, not on the
     fitted slab's face, which the page does not show (a read-through: "Extend QR as
     pictured" ran a millimetre past the seat's drawn plane and reached nothing)."""
-    from conftest import CONFIGS
-
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
-
     checked = 0
-    for model in ("chair_ingolf", "desk_fredrik", "box_ivar"):
-        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
-        plan = build_plan(t.model, t.solver, t.views)
+    for model, t, plan, view, vp in _novice_cases({}, ("chair_ingolf", "desk_fredrik",
+                                                       "box_ivar")):
         chosen = plan.chosen()
-        for view in t.views:
-            vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
-            for s in vp.steps:
-                if s.part is None or s.kind not in ("guides", "primitive"):
+        for s in vp.steps:
+            if s.part is None or s.kind not in ("guides", "primitive"):
+                continue
+            prim = plan.primitive(s.part)
+            if prim.type != "plane" or prim.axis is None:
+                continue
+            n = prim.axis
+            lo, hi = chosen[s.part].box[0][n], chosen[s.part].box[1][n]
+            tol = 1e-9 + 1e-6 * abs(hi - lo)
+            # the planes other parts' boxes have there (a carry starts on a parent's face)
+            others = [c.box[e][n] for q, c in chosen.items() if q != s.part for e in (0, 1)]
+            for g in s.guides:
+                if g.role != "vanishing" or g.status != "new":
                     continue
-                prim = plan.primitive(s.part)
-                if prim.type != "plane" or prim.axis is None:
-                    continue
-                n = prim.axis
-                lo, hi = chosen[s.part].box[0][n], chosen[s.part].box[1][n]
-                tol = 1e-9 + 1e-6 * abs(hi - lo)
-                # the planes other parts' boxes have there (a carry starts on a parent's face)
-                others = [c.box[e][n] for q, c in chosen.items() if q != s.part for e in (0, 1)]
-                for g in s.guides:
-                    if g.role != "vanishing" or g.status != "new":
-                        continue
-                    for p in (g.from3d, g.to3d):
-                        # on a face of the slab that the page does not draw, and no other
-                        # part's face either
-                        assert not (min(abs(p[n] - lo), abs(p[n] - hi)) <= tol
-                                    and not any(abs(p[n] - c) <= tol for c in others)), (
-                            model, view.name, s.index, s.text)
-                    checked += 1
+                for p in (g.from3d, g.to3d):
+                    # on a face of the slab that the page does not draw, and no other
+                    # part's face either
+                    assert not (min(abs(p[n] - lo), abs(p[n] - hi)) <= tol
+                                and not any(abs(p[n] - c) <= tol for c in others)), (
+                        model, view.name, s.index, s.text)
+                checked += 1
     assert checked >= 3
 
 
@@ -2992,20 +2973,9 @@ def test_copies_placed_on_some_axes_only_are_otherwise_as_pictured(examples, sha
     otherwise as pictured.": said only of copies whose anchors leave an axis unplaced (a
     read-through: the desk's second foot, placed front to back only, said nothing of where
     along the desk), where the step has room."""
-    from conftest import CONFIGS
-
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
-
-    cases = [(plan, vp) for (t, plan, views) in examples.values()
-             for (_, level), vp in views.items() if level == "novice"]
-    for model in ("oven_101773", "desk_fredrik"):
-        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{model}.yaml")
-        plan = build_plan(t.model, t.solver, t.views)
-        cases += [(plan, seq.sequence_view(plan, view, "novice", t.paper, t.sequence))
-                  for view in t.views]
+    cases = _novice_cases(examples, ("oven_101773", "desk_fredrik"))
     said = 0
-    for plan, vp in cases:
+    for _, _, plan, _, vp in cases:
         chosen = plan.chosen()
         for s in vp.steps:
             for x in s.substeps:

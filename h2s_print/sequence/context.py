@@ -1220,7 +1220,7 @@ class _Context(_Repeats, _Ellipses):
         # carries saying what they place ("for its back") only where that costs no step
         # (the roller's went over the steps per shape)
         saying = [list(u.specs) for u in carry_units]
-        if any(x.key.endswith("_for") for specs in saying for x in specs):
+        if len(groups) > 1 and any(x.key.endswith("_for") for specs in saying for x in specs):
             for u in carry_units:
                 u.specs = [_unsaid(x) for x in u.specs]
             plain = packed()
