@@ -31,7 +31,8 @@ def main() -> None:
     chosen = result.plan.chosen()
     for page, step in zip(steps, view.steps):
         first.setdefault(step.kind, page)
-        if step.kind == "primitive" and not step.eyeball and step.part and step.guides:
+        if (step.kind == "primitive" and not step.eyeball and step.part and step.guides
+                and chosen[step.part].anchors):  # (the first box's guides are the sheet's)
             if any(a.end == "mid" for a in chosen[step.part].anchors):
                 first.setdefault("midplane", page)  # centred on a common bisector plane
             else:
