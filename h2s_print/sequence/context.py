@@ -302,7 +302,7 @@ class _Context(_Repeats, _Ellipses):
         the first box's bottom edge through C (R), from F the floor line toward the other
         (S, under R), R dropped to S, and from S back toward the first vanishing point to T,
         under Q: its bottom corner.  Lines along which Q and C agree are left out.  None
-        otherwise (the sentence "Carry the blue floor line's foot to its bottom" stays).  A
+        otherwise (the part is said to stand on the floor, ``on_floor``).  A
         read-through of stop 30: the table's leg and the desk's foot "carried the floor
         line's foot" with no line drawn and no direction said."""
         if not self.on_floor(part, drawn):
