@@ -2986,3 +2986,38 @@ def test_copies_placed_on_some_axes_only_are_otherwise_as_pictured(examples, sha
                 assert any({a.axis for a in chosen[q].anchors} != {0, 1, 2} for q in copies), x
                 said += 1
     assert said >= 2  # the oven's knobs, both views
+
+
+def test_an_extension_says_which_way_it_reaches(examples):
+    """A master's ratio words for an end extended past a parent's side say which way: "its top
+    one roller height below the roller's bottom" ("beyond the roller's bottom" did not, a
+    read-through), checked against the boxes: the part's end lies past the parent's side in
+    the direction said."""
+    import re
+
+    toward = {"below": (2, -1), "above": (2, 1), "in front of": (1, -1), "behind": (1, 1)}
+    said = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for (view, level), vp in views.items():
+            if level != "master":
+                continue
+            names = side_names(t, plan, next(v for v in t.views if v.name == view))
+            for s in vp.steps:
+                if s.kind != "primitive" or s.part is None:
+                    continue
+                for m in re.finditer(r"its ([a-z ()]+?) (?:one|half a) [a-z ]+? (below|above|"
+                                     r"in front of|behind) the [a-z ]+?'s ([a-z ()]+?)(?:[,.]| and)",
+                                     s.text):
+                    side, way, pside = m.groups()
+                    axis, end = names[side]
+                    paxis, pend = names[pside]
+                    assert (axis, paxis) == (toward[way][0],) * 2, (name, s.text)
+                    box = chosen[s.part].box
+                    at = box[0 if end == "lo" else 1][axis]
+                    parents = [c for c in plan.candidates
+                               if c.id in {a.parent for a in chosen[s.part].anchors}]
+                    past = [p.box[0 if pend == "lo" else 1][axis] for p in parents]
+                    assert any((at - c) * toward[way][1] > 0 for c in past), (name, s.text)
+                    said += 1
+    assert said >= 4  # the roller's handle and the camera's grip, both views

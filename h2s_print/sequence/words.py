@@ -105,6 +105,10 @@ class _Words:
     def side(self, axis: int, end: str) -> str:
         return _raw("sides")[self._key(axis, end)]
 
+    def beyond(self, axis: int, end: str) -> str:
+        """Which way past the parent's ``end`` side ("below" its bottom)."""
+        return _raw("beyond")[self._key(axis, end)]
+
     @staticmethod
     def dim(axis: int) -> str:
         return _raw("dims")[axis]
@@ -150,8 +154,9 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
                   fraction=_raw("primitive.fractions")[entry.name], parent=parent,
                   lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
     amount = _extension(entry)
+    end = "lo" if r < 0 else "hi"
     return _t("primitive.position.extend", side=side, about=ab, amount=amount, parent=parent,
-              dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+              dim=words.dim(axis), pside=words.side(axis, end), beyond=words.beyond(axis, end))
 
 
 def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
@@ -174,8 +179,9 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
                   fraction=_raw("primitive.fractions")[entry.name],
                   lo=words.side(axis, "lo"), hi=words.side(axis, "hi"))
     amount = _extension(entry)
+    end = "lo" if r < 0 else "hi"
     return _t("ratio_words.extend", side=side, amount=amount, parent=parent,
-              dim=words.dim(axis), pside=words.side(axis, "lo" if r < 0 else "hi"))
+              dim=words.dim(axis), pside=words.side(axis, end), beyond=words.beyond(axis, end))
 
 
 def _ratio_phrases(words: _Words, anchors: Sequence[Any],
