@@ -3021,3 +3021,36 @@ def test_an_extension_says_which_way_it_reaches(examples):
                     assert any((at - c) * toward[way][1] > 0 for c in past), (name, s.text)
                     said += 1
     assert said >= 4  # the roller's handle and the camera's grip, both views
+
+
+def test_an_edge_drawn_before_is_cited_as_an_edge_not_from_a_later_step(examples):
+    """"Use AB and CD from step 2" where AB and CD were the engine's edges, drawn in step 1,
+    which step 2 only extended (and offered to erase its lines): a reader turned to step 2
+    for them (a read-through).  A line a step cites "from step N" is no edge of a part drawn
+    before step N (0.05 mm on the page); such a line is "the edge AB"."""
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            drawn_by: list[list] = []  # per step, the scaffold segments drawn up to it
+            segs: list = []
+            for s in vp.steps:
+                drawn_by.append(list(segs))
+                segs += [(st.points_mm[k], st.points_mm[k + 1]) for st in s.strokes
+                         if st.kind.startswith("scaffold")
+                         for k in range(len(st.points_mm) - 1)]
+            for s in vp.steps:
+                at = {lb.name: lb.at_mm for lb in s.labels if lb.kind == "point"}
+                for x in s.substeps:
+                    m = re.match(r"Use ((?:[A-Z]'*){2}(?:(?:, | and )(?:[A-Z]'*){2})*) from "
+                                 r"step (\d+)", x)
+                    if not m:
+                        continue
+                    n = int(m.group(2))
+                    for pair in re.split(r", | and ", m.group(1)):
+                        a, b = re.findall(r"[A-Z]'*", pair)
+                        assert not any(_on_segment(at[a], p, q, 0.05) and _on_segment(at[b], p, q, 0.05)
+                                       for p, q in drawn_by[n - 1]), (name, view, s.index, x)
+                        checked += 1
+    assert checked > 10

@@ -1046,7 +1046,10 @@ class _Context(_Repeats, _Ellipses):
                         for u in units.values() for p, q in u.results)
             if twice:  # the same line from another face of the parent: said once
                 pass
-            elif old and old[0] < step:
+            elif old and old[0] < step and entry_for(anchor.ratio).name not in ("start", "end"):
+                # (an edge of the parent is cited as its edge, not "from step 2" where step 2
+                # only extended it: the train's cab read "Use AB and CD from step 2", the
+                # engine's edges, which step 2 offered to erase, a read-through)
                 unit.specs.append(spec("reuse", ("reuse", old[0], a, b), ("reuse", old[0]),
                                        line=Pts((a, b)), step=old[0]))
                 known.append((a, b))
