@@ -12,7 +12,7 @@ from ..contours import adjust_part
 from ..order import start_part
 from ..project import make_camera, raised
 from ..types import Camera, Part, Vec3
-from .geometry import _anchor_lines, _box_corners, _drawn_box
+from .geometry import _anchor_lines, _box_corners
 
 log = logging.getLogger(__name__)
 
@@ -44,11 +44,8 @@ def _guide_points(plan: Any, camera: Camera, tol: float) -> np.ndarray:
         for anchor in cand.anchors:
             if anchor.face_normal == anchor.axis:
                 continue
-            parent = by_id[anchor.parent]
-            pbox = _drawn_box(plan.primitive(parent.part), parent.box)
-            _, _, own, carry = _anchor_lines(anchor, pbox,
-                                             _drawn_box(plan.primitive(cand.part), cand.box),
-                                             camera, tol)
+            _, _, own, carry = _anchor_lines(anchor, by_id[anchor.parent], cand, plan, camera,
+                                             tol)
             pts += [p for ln in own + carry for p in (ln.start, ln.end)]
     pts += _floor_points(plan)
     return np.array(pts, dtype=float).reshape(-1, 3)

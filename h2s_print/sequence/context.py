@@ -73,7 +73,6 @@ from .geometry import (
     _anchor_lines,
     _box_corners,
     _contour_strokes,
-    _drawn_box,
     _extent,
     _Line,
     _mostly_on,
@@ -935,9 +934,8 @@ class _Context(_Repeats, _Ellipses):
                     (words.side(anchor.axis, anchor.end), words.face(anchor.axis, pend),
                      anchor.axis, anchor.end == pend))
                 continue
-            pbox = _drawn_box(self.plan.primitive(parent.part), parent.box)
-            face, con, own, carry = _anchor_lines(anchor, pbox, _drawn_box(prim, cand.box),
-                                                  self.camera, self.tol)
+            face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan, self.camera,
+                                                  self.tol)
             if carry and sum(_sheet_length(self.camera, ln) for ln in carry) < TINY_CARRY_MM:
                 carry = []  # (the chair's seat: "Extend QR as pictured" by nothing visible)
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face

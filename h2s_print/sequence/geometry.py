@@ -175,7 +175,7 @@ def _solid(primitive: Any, box: Box) -> tuple[np.ndarray, list[tuple[int, ...]],
     kind, axis = primitive.type, primitive.axis
     if kind == "plane" and axis is not None:
         u, v = (a for a in range(3) if a != axis)
-        mid = 0.5 * (box[0][axis] + box[1][axis])
+        mid = _drawn_box(primitive, box)[0][axis]
         quad = []
         for cu, cv in ((0, 0), (1, 0), (1, 1), (0, 1)):
             p = [0.0, 0.0, 0.0]
@@ -323,9 +323,11 @@ def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[in
     return on_edges, moved
 
 
-def _anchor_lines(anchor: Any, pbox: Box, cbox: Box, camera: Camera,
+def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera,
                   tol: float) -> tuple[Face, Any, list[_Line], list[_Line]]:
-    """An anchor's construction face, its construction, its lines and the carrying lines.
+    """An anchor of candidate ``cand`` on candidate ``parent``: its construction face, its
+    construction, its lines and the carrying lines, on both boxes as drawn
+    (:func:`_drawn_box`).
 
     An end in line with a parent's edge (ratio 0 or 1) draws nothing on the face: its line is
     an edge of the parent's box, drawn with it (dashed where hidden).  It is taken from the
@@ -335,6 +337,8 @@ def _anchor_lines(anchor: Any, pbox: Box, cbox: Box, camera: Camera,
     own side edges to its back top edge, which the picture already showed; a read-through
     found nothing new drawn).  Other ratios construct on a face the view shows
     (:func:`_anchor_face`)."""
+    pbox = _drawn_box(plan.primitive(parent.part), parent.box)
+    cbox = _drawn_box(plan.primitive(cand.part), cand.box)
     face = _anchor_face(anchor, pbox, camera)
     con = construct(face, anchor.axis, anchor.ratio)
     carry = _carry_lines(con, face, cbox, tol)
