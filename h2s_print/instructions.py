@@ -63,9 +63,13 @@ REST = 1
 
 @dataclass(frozen=True, slots=True)
 class Pts:
-    """Points named by their letters run together in a sentence (``AC`` for a line)."""
+    """Points named by their letters run together in a sentence (``AC`` for a line).
+
+    ``places``: what the line places, said after its letters with the template
+    ``substep.line_for`` ("QR for its bottom"; empty: the letters alone)."""
 
     points: tuple[Vec3, ...]
+    places: str = ""
 
 
 @dataclass(frozen=True, slots=True)
@@ -267,6 +271,12 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                 letter[i] = _letter(n)
             held.append((last[i], letter[i]))
             ended[letter[i]] = last[i]
+
+    def said(run: Pts) -> str:
+        letters = "".join(letter[find(p)] for p in run.points)
+        return render("line_for", {"line": letters, "sides": run.places}) if run.places \
+            else letters
+
     out = []
     for specs, order in zip(steps, named):
         sentences = []
@@ -274,10 +284,9 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             fields = {}
             for name, value in s.fields:
                 if isinstance(value, Pts):
-                    value = "".join(letter[find(p)] for p in value.points)
+                    value = said(value)
                 elif isinstance(value, Many):
-                    value = join(["".join(letter[find(p)] for p in run.points)
-                                  for run in value.items])
+                    value = join([said(run) for run in value.items])
                 fields[name] = value
             sentences.append(render(s.key, fields))
         out.append((sentences, [(letter[i], _vec(points[i])) for i in order]))

@@ -163,10 +163,12 @@ def _by_eye_ellipses(d: _Draft) -> str:
 
 def _unsaid(x: Spec) -> Spec:
     """A carry sentence without what its lines place ("Carry XY vertically, as pictured.")."""
-    if not (x.key in _CARRIES and x.key.endswith("_for")):
+    if x.key not in _CARRIES:
         return x
-    return spec(x.key[:-len("_for")], x.same, x.pair,
-                **{k: v for k, v in x.fields if k != "sides"})
+    f = {k: Many(tuple(Pts(r.points) for r in line_runs(v))) if k in ("lines", "lines2")
+         and any(r.places for r in line_runs(v)) else v
+         for k, v in x.fields if k != "sides"}
+    return spec(x.key.removesuffix("_for"), x.same, x.pair, **f)
 
 
 def _stands_on_floor(d: _Draft) -> bool:
@@ -1128,12 +1130,22 @@ class _Context(_Repeats, _Ellipses):
             ``placing`` it also moves) place ("Extend VX for its back, as pictured": a
             read-through of the mixer's head could not tell which of three lines was its
             back)."""
-            sides = _unique(self.anchor_side(an) for p, q, an in run_for
-                            if any(_same_segment(p, q, r.points[0], r.points[1], self.tol)
-                                   for r in [*runs, *placing]))
-            if sides:
+            each = [_unique(self.anchor_side(an) for p, q, an in run_for
+                            if _same_segment(p, q, r.points[0], r.points[1], self.tol))
+                    for r in [*runs, *placing]]
+            if len(each) == 1 and each[0] or (all(len(e) == 1 for e in each)
+                                              and len({e[0] for e in each}) == len(each)):
+                # one line, or one side a line: the sides in the lines' order ("Extend AB
+                # and CD for its left side and back")
                 return spec(key + "_for", lines=Many(tuple(runs)), part=name,
-                            sides=_join(sides), **f)
+                            sides=_join([e[0] for e in each]), **f)
+            if any(each):  # else each line with its own (the train's roof: "Extend QR, FD,
+                # SR and TB for its right side, left side, back, front and bottom" paired
+                # four lines with five sides, a read-through)
+                said = [Pts(r.points, _join(e)) for r, e in zip([*runs, *placing], each)]
+                f = {k: Many(tuple(said[len(runs):])) if k == "lines2" else v
+                     for k, v in f.items()}
+                return spec(key, lines=Many(tuple(said[:len(runs)])), part=name, **f)
             return spec(key, lines=Many(tuple(runs)), part=name, **f)
 
         if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
@@ -1221,7 +1233,7 @@ class _Context(_Repeats, _Ellipses):
         # carries saying what they place ("for its back") only where that costs no step
         # (the roller's went over the issue's steps per shape)
         saying = [list(u.specs) for u in carry_units]
-        if len(groups) > 1 and any(x.key.endswith("_for") for specs in saying for x in specs):
+        if len(groups) > 1 and any(_unsaid(x) != x for specs in saying for x in specs):
             for u in carry_units:
                 u.specs = [_unsaid(x) for x in u.specs]
             plain = packed()

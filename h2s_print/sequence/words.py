@@ -123,7 +123,12 @@ def _join(items: Sequence[str]) -> str:
     items = list(items)
     if len(items) <= 1:
         return "".join(items)
-    return _raw("join").join(items[:-1]) + _raw("join_last") + items[-1]
+    # a list of items that say "and" themselves closes with "join_last_long" (English: a
+    # serial comma, "CD for its front and top, and EF for its bottom")
+    last = _raw("join_last")
+    if any(last in x for x in items):
+        last = _raw("join_last_long")
+    return _raw("join").join(items[:-1]) + last + items[-1]
 
 
 def _unique(items: Iterable[str]) -> list[str]:
