@@ -652,7 +652,7 @@ def test_the_box_around_a_tapered_parent_is_drawn_only_where_a_construction_need
 
 #: A sub-step placing a side on a drawn part's face: resting on it ("Its bottom lies on the
 #: base's top face.") or in line with it ("Line up its top with the frame axle's top face.").
-_ON_FACE = r"Its .* lie|Line up its .+ with .+'s .+ faces?\.$"
+_ON_FACE = r"Its .* lie|Line up its .+ with .+'s(?: .+ face)?\.$"
 
 
 def test_anchor_guide_lies_on_the_parent_face_at_the_ratio(examples):
@@ -2715,7 +2715,7 @@ def test_a_face_on_a_parents_face_of_the_same_side_is_in_line_not_on_it(examples
     read-through: "lie on the base body's right face", a face hidden behind it) is "in line"
     with it.  Each sentence's sides and faces hold on the boxes: the same plane, the same side
     for "Line up", opposite sides for "lies on"."""
-    flush = re.compile(r"Line up its (.+) with (.+?)'s (.+) faces?\.")
+    flush = re.compile(r"Line up its (.+) with (.+?)'s(?: (.+) face)?\.")
     rests = re.compile(r"Its (.+) lies? on (.+?)'s (.+) faces?\.")
     checked = {"flush": 0, "rests": 0}
     for name, (t, plan, views) in examples.items():
@@ -2733,7 +2733,10 @@ def test_a_face_on_a_parents_face_of_the_same_side_is_in_line_not_on_it(examples
                             continue
                         parent = part_of[m.group(2).removeprefix("the ")]
                         sides = re.split(r", | and ", m.group(1))
-                        faces = re.split(r", | and ", m.group(3))
+                        # several flush faces: the sides' own, unsaid ("Line up its right
+                        # side and left side with part 1's.")
+                        faces = (re.split(r", | and ", m.group(3)) if m.group(3) else
+                                 [ctx.words.face(*side_of[sd]) for sd in sides])
                         if len(sides) != len(faces) or parent not in chosen:
                             continue
                         box, pbox = np.asarray(chosen[s.part].box), np.asarray(chosen[parent].box)
@@ -2887,6 +2890,33 @@ def test_a_carry_says_what_each_of_its_lines_places(examples, shared_models):
                 several += len(pairs) > 1
                 said += 1
     assert said > 20 and several >= 2
+
+
+def test_an_edge_cited_bare_places_no_side(examples, shared_models):
+    """"Use the edge QR." without "for its ..." only for an edge at none of the part's sides
+    (checked on the lettered points in 3D against its box): the side an edge places is said
+    ("Use the edge QR for its front."), and a step whose words would leave it out is split
+    instead (the chair's seat read "Use the edge QR." at the word limit, a read-through)."""
+    cases = _novice_cases(examples, ("chair_ingolf", "desk_fredrik", "table_lack", "box_ivar"))
+    token = r"(?<![A-Z'])(?:[A-Z]'*){2}(?![A-Z'])"
+    said = 0
+    for _, t, plan, view, vp in cases:
+        chosen = plan.chosen()
+        for s in vp.steps:
+            if s.part not in chosen:
+                continue
+            at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
+            box = np.asarray(chosen[s.part].box, float)
+            tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+            for x in s.substeps:
+                said += bool(re.match(r"Use the edges? .* for its ", x))
+                if not re.fullmatch(r"Use the edges? [A-Z' ,and]+\.", x):
+                    continue
+                for line in re.findall(token, x):
+                    pts = [at[p] for p in re.findall(r"[A-Z]'*", line)]
+                    assert not any(_at_side(pts, box, (a, e), tol) for a in range(3)
+                                   for e in ("lo", "hi", "mid")), (vp.name, s.index, x)
+    assert said >= 10  # (the sentences the check reads are still worded so)
 
 
 def test_the_floor_under_a_part_is_constructed_from_the_floor_line(shared_models):

@@ -1378,9 +1378,13 @@ class _Context(_Repeats, _Ellipses):
         the last group goes with ``closing`` (the placing sub-steps) under ``head``, the
         others are guides steps under ``guides_head(group)``; one unit alone may exceed the
         limit (it is not cut).  Lines an earlier group drew are not counted again (they are
-        not said again)."""
+        not said again).  An edge the placing step cites is counted with what it places, as
+        that step says it ("Use the edge QR for its front.")."""
         def fits(group: list[_Unit], extra: list[Spec], said: set) -> bool:
-            specs = [x for u in group for x in u.specs if not (x.same and x.same in said)]
+            specs = [_edge_for(x, u.anchors, self.anchor_side, box)
+                     if extra and x.key == "edge" else x
+                     for u in group for x in u.specs if not (x.same and x.same in said)]
+            specs = _edges_together(specs) if extra else specs
             return self.step_words(specs + extra, head if extra else guides_head(group)
                                    ) <= MAX_STEP_WORDS
 
