@@ -1205,6 +1205,45 @@ def test_parts_on_the_floor_under_a_raised_first_box_are_stood_on_it(shared_mode
         assert all(seq_drafts.SHEET_FLOOR in s.alive for s in vp.steps[:last])
 
 
+def test_a_part_stands_where_the_floor_line_ends_only_on_its_own_upright_edge(examples,
+                                                                               shared_models):
+    """"Its bottom stands on the floor, where the blue floor line ends." only for a part
+    with an upright edge on the floor line (its box has a corner under the line's foot);
+    another part on the floor is told to judge where by eye: in perspective the floor under
+    it is not where the line ends (a read-through: the roller's handle, drawn down to the
+    line's foot, came out far too long).  Both only for parts whose box stands on the floor."""
+    from conftest import CONFIGS
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.templates import lookup
+
+    plans = [(t, plan, [(v, views[(v.name, "novice")]) for v in t.views])
+             for t, plan, views in examples.values()]
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "desk_fredrik.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    plans.append((t, plan, [(v, seq.sequence_view(plan, v, "novice", t.paper, t.sequence))
+                            for v in t.views]))
+    at_foot, by_eye = lookup("steps", "substep.on_floor"), lookup("steps", "substep.on_floor_eye")
+    said = {at_foot: 0, by_eye: 0}
+    for t, plan, views in plans:
+        floor_z = min(c.box[0][2] for c in plan.chosen().values())
+        for view, vp in views:
+            for s in vp.steps:
+                for key in (at_foot, by_eye):
+                    if key not in s.substeps:
+                        continue
+                    box = np.asarray(plan.chosen()[s.part].box, float)
+                    tol = 1e-9 * max(1.0, float(np.abs(box).max()))
+                    assert box[0][2] == pytest.approx(floor_z, abs=tol)
+                    line, = [g for g in s.guides if g.id == seq_drafts.SHEET_FLOOR]
+                    foot = np.asarray(line.to3d, float)
+                    on_edge = any(abs(box[i][0] - foot[0]) <= tol and abs(box[j][1] - foot[1])
+                                  <= tol for i in (0, 1) for j in (0, 1))
+                    assert on_edge == (key == at_foot), (t.title, view.name, s.index)
+                    said[key] += 1
+    assert said[by_eye] >= 4, said
+
+
 def test_a_copy_right_over_its_original_says_which_way_it_lies(shared_models):
     # a read-through: the desk's two modesty panels, 12 mm apart in depth, read "Part 3: the
     # same flat rectangle, where the picture shows it" over what the picture drew as one

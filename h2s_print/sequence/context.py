@@ -174,7 +174,8 @@ def _unsaid(x: Spec) -> Spec:
 def _stands_on_floor(d: _Draft) -> bool:
     """Does draft ``d`` stand a part on the floor the sheet prints ("Its bottom stands on the
     floor")?"""
-    return any(x.key in ("on_floor", "floor_line", "floor_line_end", "floor_back")
+    return any(x.key in ("on_floor", "on_floor_eye", "floor_line", "floor_line_end",
+                         "floor_back")
                for x in d.specs)
 
 
@@ -312,11 +313,10 @@ class _Context(_Repeats, _Ellipses):
         if not any(a.axis == 2 and a.end == "hi" for a in cand.anchors):
             return None
         first = drawn[0]
-        lines = _first_lines(_scaffold(first, self.plan.primitive(first), self.chosen[first].box,
-                                       self.camera, self.tol), self.camera, self.floor_z(False))
-        if lines is None or lines.floor is None:
+        floor_line = self.floor_line(first)
+        if floor_line is None:
             return None
-        (cx, cy, cz), foot = lines.floor
+        (cx, cy, cz), foot = floor_line
         fz = float(foot[2])
         lo, hi = self.chosen[first].box, cand.box
         if abs(float(hi[1][2]) - cz) > self.tol:
@@ -373,14 +373,31 @@ class _Context(_Repeats, _Ellipses):
             result = (start, T)
         return _Unit(first, specs, out, [result], floor=True)
 
+    def floor_line(self, first: str) -> tuple[Vec3, Vec3] | None:
+        """The floor line the sheet prints under the first box ``first``'s nearest corner:
+        ``(corner, foot)``, or None (a first box on the floor)."""
+        lines = _first_lines(_scaffold(first, self.plan.primitive(first), self.chosen[first].box,
+                                       self.camera, self.tol), self.camera, self.floor_z(False))
+        return None if lines is None else lines.floor
+
     def floor_size(self, part: str, drawn: Sequence[str]) -> list[tuple[Spec, list[int]]]:
         """"Its bottom stands on the floor" (:meth:`on_floor`) as the first of the part's
         size sentences (said when the step has room for it, :meth:`sized`): with its top
-        anchored, it gives the height, which is then not left to the eye."""
+        anchored, it gives the height, which is then not left to the eye.  "... where the
+        blue floor line ends" only where an upright edge of the part's box is the floor
+        line's; elsewhere the floor under the part is not where the line ends (the picture is
+        in perspective), and the sentence says to judge it by eye (a read-through: the
+        roller's handle, drawn to the floor line's foot, came out far too long)."""
         if not self.on_floor(part, drawn):
             return []
         top = any(a.axis == 2 and a.end == "hi" for a in self.chosen[part].anchors)
-        return [(spec("on_floor"), [2] if top else [])]
+        floor_line = self.floor_line(drawn[0])
+        box = self.chosen[part].box
+        at_foot = floor_line is not None and any(
+            abs(float(box[i][0]) - float(floor_line[1][0])) <= self.tol
+            and abs(float(box[j][1]) - float(floor_line[1][1])) <= self.tol
+            for i in (0, 1) for j in (0, 1))
+        return [(spec("on_floor" if at_foot else "on_floor_eye"), [2] if top else [])]
 
     def basic_order(self, keep: set[str]) -> list[str]:
         """The control tutorial's order of the kept parts (fitted boxes, no anchoring): the
