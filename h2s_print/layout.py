@@ -633,8 +633,7 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
                    None, 0.0, None, "close_up_region"), frames[0],
               Rect(x0, y0, x1 - x0, y1 - y0, None, 0.0, "white", "close_up")]
     # its caption outside it, on the side toward the middle of the picture
-    size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
-    below = (y0 + y1) / 2 > (view.rect[1] + view.rect[3]) / 2
+    size, cap = CLOSE_UP_CAPTION_PT, CLOSE_UP_CAPTION_MM
     caption = _t("step.close_up")
     if x0 > view.rect[2] or x1 < view.rect[0]:
         # beside the picture: wrapped to the close-up's column, so that it never runs into
@@ -643,6 +642,7 @@ def _step_panel(view: _View, plan: ViewPlan, i: int, margin: float,
         rows = wrap(caption, width, size, "Helvetica-Oblique")
         left = x1 < view.rect[0]  # left of the picture: the column ends at the close-up's edge
         step_y = cap + 1.0
+        below = _caption_below(view.rect, (x0, y0, x1, y1), len(rows) * step_y)
         for k, row in enumerate(rows):
             y = y0 - 1.0 - cap - k * step_y if below else y1 + 1.0 + (len(rows) - 1 - k) * step_y
             items.append(Text(x1 if left else x0, y, row, size, "Helvetica-Oblique",
@@ -666,13 +666,34 @@ def _segments_memo(line: Polyline, memo: dict[Any, Any] | None) -> np.ndarray:
     return segs
 
 
+def _caption_below(picture: Box2, box: Box2, need: float) -> bool:
+    """Does a close-up's caption, ``need`` mm tall with its gap, go below the close-up
+    ``box`` (page y up)?  Toward the middle of the picture, unless only the other side keeps
+    it level with the picture (a read-through: a close-up beside the picture, about as tall
+    as it, had its caption over the page's header)."""
+    fits_below = box[1] - need >= picture[1] - 1e-9
+    fits_above = box[3] + need <= picture[3] + 1e-9
+    if fits_below != fits_above:
+        return fits_below
+    return (box[1] + box[3]) / 2 > (picture[1] + picture[3]) / 2
+
+
+def _beside_caption_rows() -> list[str]:
+    """The caption of a close-up beside the picture, wrapped to its narrowest column (the
+    most rows it can take)."""
+    return wrap(_t("step.close_up"), CLOSE_UP_CAPTION_MIN_MM, CLOSE_UP_CAPTION_PT,
+                "Helvetica-Oblique")
+
+
 def _close_up_caption(picture: Box2, box: Box2) -> Text:
     """A close-up's caption in the picture, outside the close-up ``box``: above it in the
-    picture's lower half, else below; running right from its left edge, or, too long for the
-    picture that way (a German caption ran off the page), ending at its right edge."""
+    picture's lower half, else below, unless only the other side keeps it level with the
+    picture (a read-through: a close-up beside the picture, as tall as it, had its caption
+    over the page's header); running right from its left edge, or, too long for the picture
+    that way (a German caption ran off the page), ending at its right edge."""
     x0, y0, x1, y1 = box
-    size, cap = CLOSE_UP_CAPTION_PT, 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
-    below = (y0 + y1) / 2 > (picture[1] + picture[3]) / 2
+    size, cap = CLOSE_UP_CAPTION_PT, CLOSE_UP_CAPTION_MM
+    below = _caption_below(picture, box, 1.0 + cap)
     caption = _t("step.close_up")
     right = x0 + text_width_mm(caption, size, "Helvetica-Oblique") > picture[2]
     return Text(x1 if right else x0, y0 - 1.0 - cap if below else y1 + 1.0, caption, size,
@@ -702,6 +723,8 @@ CLOSE_UP_INSET_MM = 1.5
 #: In the picture, a close-up is also tried on a grid of this many steps each way.
 CLOSE_UP_GRID = 6
 CLOSE_UP_CAPTION_PT = 6.5
+#: ... whose capitals are this tall (mm).
+CLOSE_UP_CAPTION_MM = 0.72 * CLOSE_UP_CAPTION_PT * PT_MM
 #: A caption beside the picture is wrapped to its close-up's width, but no narrower than this.
 CLOSE_UP_CAPTION_MIN_MM = 24.0
 #: A step whose new lines all fit in a square this wide on the picture (page mm) draws a part
@@ -803,7 +826,9 @@ def _place_close_up(view: _View, step: Step, region: Box2, wanted: float, crowde
         if region[0] + region[2] > x0 + x1:  # the side nearer the frame first
             sides.reverse()
         for lo, hi in sides:
-            z = min(CLOSE_UP_MAX_ZOOM, wanted, (hi - lo) / rw, (y1 - y0) / rh)
+            # (its caption above or below it, level with the picture too)
+            need = len(_beside_caption_rows()) * (CLOSE_UP_CAPTION_MM + 1.0)
+            z = min(CLOSE_UP_MAX_ZOOM, wanted, (hi - lo) / rw, (y1 - y0 - need) / rh)
             if z >= CLOSE_UP_MIN_ZOOM:
                 w, h = rw * z, rh * z
                 bx = lo if lo > x1 else hi - w  # against the picture
@@ -1241,13 +1266,28 @@ def primer_diagrams() -> tuple[PrimerDiagram, ...]:
     return tuple(out)
 
 
+def _primer_intro(plan: ViewPlan) -> str:
+    """The primer's introduction for ``plan``'s view: what "away from" a vanishing point
+    means, and, where upright edges run toward a vanishing point of their own (a view from
+    high or low), that they do, in the words the steps use (a read-through of the high
+    views met "toward the vanishing point below" and "away from" nowhere explained)."""
+    text = _t("primer.intro") + " " + _t("primer.away")
+    centre = (plan.camera.paper_mm[0] / 2.0, plan.camera.paper_mm[1] / 2.0)
+    up = next((side for vp in plan.vanishing_points if vp.axis == 2
+               and (side := vp_side(vp, centre)) is not None), None)
+    if up is not None:
+        text += " " + _t("primer.upright",
+                         vp=plain_text(templates.lookup("steps", f"vp.{up}")))
+    return text
+
+
 def _primer_page(f: _Frame, title: str, header_right: str,
-                 diagrams: Sequence[PrimerDiagram]) -> Page:
+                 diagrams: Sequence[PrimerDiagram], intro_text: str) -> Page:
     items: list[Item] = []
     head, top = _header(f, _t("primer.heading"), header_right)
     items += head
     x0, y0, x1, _ = f.box
-    intro, top = _paragraph(x0, top, x1 - x0, _t("primer.intro"), 9.5, role="intro")
+    intro, top = _paragraph(x0, top, x1 - x0, intro_text, 9.5, role="intro")
     items += intro
     legend, legend_top = _legend(f, _footer_y(f) + 5.0, ["face", "construction", "result"])
     items += legend
@@ -1699,7 +1739,7 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
     pages: list[Page] = [_cover_page(f, title, plan, view_label, final,
                                      level if cover_level else None, how)]
     if plan.level != "basic":  # the control condition gets no How2Sketch constructions
-        pages.append(_primer_page(f, title, right, primer_diagrams()))
+        pages.append(_primer_page(f, title, right, primer_diagrams(), _primer_intro(plan)))
     hints = _erase_hints(plan)
     geometry = _step_geometry(f, plan, hints)  # the step pages' and the finished drawing's
     pages += _step_pages(f, title, plan, view_label, level, hints, geometry)

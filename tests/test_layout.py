@@ -1135,7 +1135,8 @@ def test_a_close_ups_caption_is_not_printed_across_the_object(examples):
     """A close-up in the picture goes where it and its caption cross the fewest of the
     object's lines: "the small frame, enlarged (do not draw the frames)" ran across the
     roller's frame arm (a read-through).  On the roller's views no caption crosses one
-    (over the four examples, 111 crossings before, 21 after)."""
+    (over the four examples, 111 crossings before, 21 after).  Every caption is level with
+    its picture."""
     checked = 0
     for name, (t, plan, views) in examples.items():
         for (view, level), vp in views.items():
@@ -1148,9 +1149,16 @@ def test_a_close_ups_caption_is_not_printed_across_the_object(examples):
                     continue
                 strokes = L._segments([it for it in page.items if isinstance(it, L.Polyline)
                                        and it.role.startswith("stroke")])
+                # level with the picture it belongs to (a read-through: beside the picture,
+                # a close-up as tall as it had its caption over the page's header)
+                papers = [it for it in page.items if isinstance(it, L.Rect)
+                          and it.role == "paper"]
                 for cap in caps:
                     if name == "roller":
                         assert L._crossings(strokes, cap.box_mm) == 0, (view, level)
+                    b = cap.box_mm
+                    assert any(r.y_mm - 1e-6 <= b[1] and b[3] <= r.y_mm + r.h_mm + 1e-6
+                               for r in papers), (name, view, level, page.kind)
                     checked += 1
     assert checked >= 20
 
@@ -1220,3 +1228,36 @@ def test_crossings_many_is_the_definition_pair_by_pair():
         assert L._crossings_many(segs, boxes).tolist() == want, trial
         touching += sum(want)
     assert touching > 100  # the cases do meet
+
+
+def test_the_primer_explains_away_from_and_upright_vanishing_points(examples):
+    """The primer says what "away from" a vanishing point means, and, in a view whose upright
+    edges run toward a vanishing point (seen from high or low: the axis-2 point finite on
+    the sheet), names that point in the steps' words (a read-through of the high views met
+    "toward the vanishing point below" nowhere explained); a view with vertical uprights
+    does not get the sentence."""
+    from h2s_print import templates
+    from h2s_print.layout import lay_out_workbook
+    from h2s_print.project import vp_side
+
+    def words(s: str) -> str:  # the first words (the page wraps the text)
+        return " ".join(s.split()[:4])
+
+    said = {True: 0, False: 0}
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            vp = views[(view.name, "novice")]
+            primer = lay_out_workbook(t.title, vp, t.paper, view_label=view.name)[1]
+            text = " ".join(it.string for it in primer.items
+                            if getattr(it, "role", "") == "intro")
+            assert words(templates.text("pages", "primer.away")) in text
+            centre = (vp.camera.paper_mm[0] / 2, vp.camera.paper_mm[1] / 2)
+            up = [vp_side(v, centre) for v in vp.vanishing_points
+                  if v.axis == 2 and vp_side(v, centre) is not None]
+            upright = words(templates.text("pages", "primer.upright", vp="x"))
+            assert (upright in text) == bool(up), (name, view.name)
+            if up:
+                toward = templates.lookup("steps", f"vp.{up[0]}")
+                assert toward in " ".join(text.split()), (name, view.name)
+            said[bool(up)] += 1
+    assert said[True] and said[False], said
