@@ -153,6 +153,12 @@ class RatioEntry:
         return self.ratio < 0.0 or self.ratio > 1.0
 
     @property
+    def in_line(self) -> bool:
+        """True for an end in line with one of the parent's edges (``start`` or ``end``:
+        ratio 0 or 1), the edge extended rather than a division or an extrusion."""
+        return self.name in ("start", "end")
+
+    @property
     def needs_room(self) -> bool:
         """False when the construction is only an existing edge extended (``align``: ratio 0
         or 1), which needs no room on the face; True for every division or extrusion."""

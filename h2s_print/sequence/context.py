@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import logging
-import math
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Iterable, Sequence
 
@@ -74,6 +73,7 @@ from .geometry import (
     _box_corners,
     _contour_strokes,
     _extent,
+    _floor_corner,
     _Line,
     _mostly_on,
     _moving_axis,
@@ -316,41 +316,15 @@ class _Context(_Repeats, _Ellipses):
         floor_line = self.floor_line(first)
         if floor_line is None:
             return None
-        (cx, cy, cz), foot = floor_line
-        fz = float(foot[2])
-        lo, hi = self.chosen[first].box, cand.box
-        if abs(float(hi[1][2]) - cz) > self.tol:
-            return None  # its top is not in the first box's bottom face
         eye = np.asarray(self.camera.position, dtype=float)
-        qx, qy = min(((float(x), float(y)) for x in (hi[0][0], hi[1][0])
-                      for y in (hi[0][1], hi[1][1])),
-                     key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
-        if not (lo[0][0] - self.tol <= qx <= lo[1][0] + self.tol
-                and lo[0][1] - self.tol <= qy <= lo[1][1] + self.tol):
-            return None  # its corner is not over the first box's bottom face
-        q, c = (qx, qy), (float(cx), float(cy))
-        # from Q along axis `a` to C's edge, from F along the other: `a` is an axis along
-        # which Q and C agree where there is one (then one line: Q's own edge meets F's)
-        a = 1 if abs(q[0] - c[0]) > self.tol and abs(q[1] - c[1]) <= self.tol else 0
-        b = 1 - a
-
-        def pt(u: float, v: float, z: float) -> Vec3:
-            out = [0.0, 0.0, z]
-            out[a], out[b] = u, v
-            return (out[0], out[1], out[2])
-
-        Q = pt(q[a], q[b], cz)
-        R = pt(c[a], q[b], cz)  # on the first box's bottom edge through C along b
-        F = pt(c[a], c[b], fz)
-        S = pt(c[a], q[b], fz)
-        T = pt(q[a], q[b], fz)
+        corner = _floor_corner(self.chosen[first].box, cand.box, *floor_line, eye, self.tol)
+        if corner is None:
+            return None
+        Q, R, F, S, T = corner.Q, corner.R, corner.F, corner.S, corner.T
+        a, b, moved_a, moved_b = corner.a, 1 - corner.a, corner.moved_a, corner.moved_b
         owner = self.say(first)
         specs: list[Spec] = []
         out: list[_Line] = []
-        moved_a = abs(q[a] - c[a]) > self.tol
-        moved_b = abs(q[b] - c[b]) > self.tol
-        if not moved_a and not moved_b:
-            return None  # (its corner on the floor line itself: the line is the guide)
         words = self.words
         if moved_a:
             specs.append(spec("floor_over", line=Pts((Q, R)), point=Pts((Q,)),
@@ -1063,7 +1037,7 @@ class _Context(_Repeats, _Ellipses):
                         for u in units.values() for p, q in u.results)
             if twice:  # the same line from another face of the parent: said once
                 pass
-            elif old and old[0] < step and entry_for(anchor.ratio).name not in ("start", "end"):
+            elif old and old[0] < step and not entry_for(anchor.ratio).in_line:
                 # (an edge of the parent is cited as its edge, not "from step 2" where step 2
                 # only extended it: the train's cab read "Use AB and CD from step 2", the
                 # engine's edges, which step 2 offered to erase, a read-through)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -342,7 +343,7 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
     face = _anchor_face(anchor, pbox, camera)
     con = construct(face, anchor.axis, anchor.ratio)
     carry = _carry_lines(con, face, cbox, tol)
-    if carry and anchor.end != "mid" and entry_for(anchor.ratio).name in ("start", "end"):
+    if carry and anchor.end != "mid" and entry_for(anchor.ratio).in_line:
         best = _carry_cost(con, carry, pbox, tol)
         biggest = max(_extent(pbox, a) for a in range(3))
         for n in range(3):
@@ -363,7 +364,7 @@ def _on_face(anchor: Any, pbox: Box, cbox: Box, tol: float) -> bool:
     """An end aligned with a parent's face (ratio 0 or 1) whose face overlaps that face's
     rectangle (an area, not an edge): the face already drawn is the guide ("Its back lies on
     the body's front face"), no line needs carrying."""
-    if anchor.end == "mid" or entry_for(anchor.ratio).name not in ("start", "end"):
+    if anchor.end == "mid" or not entry_for(anchor.ratio).in_line:
         return False
     return all(cbox[0][b] < pbox[1][b] - tol and pbox[0][b] < cbox[1][b] - tol
                for b in range(3) if b != anchor.axis)
@@ -442,3 +443,58 @@ def _touching(part: str, chosen: dict[str, Any], tol: float) -> list[str]:
         if all(lo[a] <= ohi[a] + tol and olo[a] <= hi[a] + tol for a in range(3)):
             out.append(other)
     return out
+
+
+@dataclass(frozen=True, slots=True)
+class _FloorCorner:
+    """The floor under a part's nearest bottom corner, constructed from the floor line's foot
+    (:func:`_floor_corner`).  Points: Q the part's top corner, R on the first box's bottom
+    edge through the floor line's corner C (from Q along axis ``a``), F the floor line's foot,
+    S under R (from F along the other floor axis), T under Q (the bottom corner).
+    ``moved_a``/``moved_b``: Q and C differ along ``a``/the other axis (a line is drawn)."""
+
+    a: int
+    Q: Vec3
+    R: Vec3
+    F: Vec3
+    S: Vec3
+    T: Vec3
+    moved_a: bool
+    moved_b: bool
+
+
+def _floor_corner(first: Box, part: Box, corner: Any, foot: Any, eye: np.ndarray,
+                  tol: float) -> _FloorCorner | None:
+    """The construction of :class:`_FloorCorner` for a part whose top lies in the bottom face
+    of the ``first`` box (raised above the floor), under which the sheet prints the floor line
+    from ``corner`` (C) down to ``foot`` (F): the part's top corner nearest the ``eye`` (Q),
+    carried along one floor axis to the first box's bottom edge through C (R), dropped to the
+    floor (S, on the floor line from F along the other axis), and back under Q (T).  ``a`` is
+    an axis along which Q and C agree where there is one (then one line: Q's own edge meets
+    F's).  None where the part's top is not in that face, its corner not over it, or the
+    corner is C itself (the floor line is the guide)."""
+    cx, cy, cz = (float(v) for v in corner)
+    fz = float(foot[2])
+    if abs(float(part[1][2]) - cz) > tol:
+        return None  # its top is not in the first box's bottom face
+    qx, qy = min(((float(x), float(y)) for x in (part[0][0], part[1][0])
+                  for y in (part[0][1], part[1][1])),
+                 key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+    if not (first[0][0] - tol <= qx <= first[1][0] + tol
+            and first[0][1] - tol <= qy <= first[1][1] + tol):
+        return None  # its corner is not over the first box's bottom face
+    q, c = (qx, qy), (cx, cy)
+    a = 1 if abs(q[0] - c[0]) > tol and abs(q[1] - c[1]) <= tol else 0
+    b = 1 - a
+    moved_a, moved_b = abs(q[a] - c[a]) > tol, abs(q[b] - c[b]) > tol
+    if not moved_a and not moved_b:
+        return None  # (its corner on the floor line itself: the line is the guide)
+
+    def pt(u: float, v: float, z: float) -> Vec3:
+        out = [0.0, 0.0, z]
+        out[a], out[b] = u, v
+        return (out[0], out[1], out[2])
+
+    return _FloorCorner(a, Q=pt(q[a], q[b], cz), R=pt(c[a], q[b], cz), F=pt(c[a], c[b], fz),
+                        S=pt(c[a], q[b], fz), T=pt(q[a], q[b], fz),
+                        moved_a=moved_a, moved_b=moved_b)

@@ -151,7 +151,7 @@ def _position(words: _Words, anchor: Any, parent: str, about: bool) -> str:
         return _t("primitive.position.flat", side=side, parent=parent)
     entry = entry_for(r)
     ab = _raw("about") if about else ""
-    if entry.name in ("start", "end"):
+    if entry.in_line:
         return _t("primitive.position.align", side=side, parent=parent,
                   pside=words.side(axis, "lo" if r < 0.5 else "hi"))
     if not entry.extrusion:
@@ -174,7 +174,7 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
     if anchor.face_normal == axis:
         return _t("ratio_words.flat", side=side, parent=parent)
     entry = entry_for(r)
-    if entry.name in ("start", "end"):
+    if entry.in_line:
         return _t("ratio_words.align", side=side, parent=parent,
                   pside=words.side(axis, "lo" if r < 0.5 else "hi"))
     if not entry.extrusion:
@@ -204,7 +204,7 @@ def _ratio_phrases(words: _Words, anchors: Sequence[Any],
     same: dict[str, list[int]] = {}
     for i, a in enumerate(anchors):
         if (a.end != "mid" and a.face_normal != a.axis
-                and entry_for(a.ratio).name in ("start", "end")
+                and entry_for(a.ratio).in_line
                 and a.end == ("lo" if a.ratio < 0.5 else "hi")):
             same.setdefault(a.parent, []).append(i)
     first = {ids[0]: ids for ids in same.values() if len(ids) > 1}
