@@ -7,7 +7,9 @@ the segment from the eye to ``P`` runs through the inside of a solid for a stret
 :data:`EPS` of its length before reaching ``P``: a point on a solid's surface facing the eye is
 seen, one on its far side or inside it is not.  Used for the ellipses of the ellipse steps (the
 far end of a cylinder is half hidden by the cylinder itself; a column's top ellipse lies
-inside the table top drawn before it), which the pages then draw dotted.
+inside the table top drawn before it), which the pages then draw dotted, and for the edges of
+a box drawn behind or inside a part drawn before it (:func:`hidden_spans`: a desk's leg under
+its top, a plate's dowels sunk in it).
 """
 
 from __future__ import annotations
@@ -148,3 +150,51 @@ def runs(points: np.ndarray, mask: np.ndarray) -> list[tuple[bool, np.ndarray]]:
             out.append((bool(flags[run[0]]), pts[run]))
             run = [i]
     return out
+
+
+def _hidden_deep(points: np.ndarray, eye: np.ndarray, solids: Sequence[Solid],
+                 depth: float) -> np.ndarray:
+    """Per point, whether the segment from ``eye`` to it runs inside a solid for longer than
+    ``depth`` (model units) before reaching it."""
+    d = points - eye
+    length = np.linalg.norm(d, axis=1)
+    out = np.zeros(len(points), dtype=bool)
+    for solid in solids:
+        t0, t1 = _inside(solid, eye, d)
+        out |= (t1 - t0) * length > depth
+    return out
+
+
+#: Points sampled along a segment by :func:`hidden_spans` before its changes are refined.
+SPAN_SAMPLES = 129
+#: Bisection rounds refining each change (the change is then known to 2**-40 of the segment).
+SPAN_ROUNDS = 40
+
+
+def hidden_spans(a: Sequence[float], b: Sequence[float], eye: Sequence[float],
+                 solids: Sequence[Solid], depth: float) -> list[tuple[float, float]]:
+    """The stretches ``(s0, s1)`` (``0 <= s0 < s1 <= 1``, along ``a + s (b - a)``) of the
+    segment that ``solids`` hide from ``eye``: the eye's line of sight to the point runs inside
+    one of them for longer than ``depth`` (a point on a surface, or inside by less than
+    ``depth``, counts as seen: parts touching within the model's tolerances hide nothing of
+    each other).  Found on :data:`SPAN_SAMPLES` points, each change refined by bisection; a
+    hidden stretch shorter than the samples' spacing may be missed."""
+    pa, pb, e = (np.asarray(x, dtype=float) for x in (a, b, eye))
+    if not solids:
+        return []
+    s = np.linspace(0.0, 1.0, SPAN_SAMPLES)
+    mask = _hidden_deep(pa + s[:, None] * (pb - pa), e, solids, depth)
+    if not mask.any():
+        return []
+    change = np.flatnonzero(mask[1:] != mask[:-1])
+    lo, hi = s[change], s[change + 1]
+    start_hidden = mask[change]  # hidden at lo: the change ends a hidden stretch
+    for _ in range(SPAN_ROUNDS):
+        mid = 0.5 * (lo + hi)
+        m = _hidden_deep(pa + mid[:, None] * (pb - pa), e, solids, depth)
+        same = m == start_hidden
+        lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
+    cuts = 0.5 * (lo + hi)
+    bounds = [0.0, *cuts.tolist(), 1.0]
+    flags = [bool(mask[0]), *[not bool(f) for f in start_hidden]]
+    return [(bounds[k], bounds[k + 1]) for k, f in enumerate(flags) if f]

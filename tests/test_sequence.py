@@ -3099,3 +3099,69 @@ def test_an_edge_drawn_before_is_cited_as_an_edge_not_from_a_later_step(examples
                                        for p, q in drawn_by[n - 1]), (name, view, s.index, x)
                         checked += 1
     assert checked > 10
+
+
+def _deep_inside(eye, p, box) -> float:
+    """How far (model units) the sight line from ``eye`` to ``p`` runs inside the axis-aligned
+    ``box`` before reaching ``p`` (the slab method, written out here: no code shared with
+    :mod:`h2s_print.occlude`)."""
+    d = p - eye
+    t0, t1 = 0.0, 1.0
+    for k in range(3):
+        if abs(d[k]) < 1e-15:
+            if not box[0][k] <= eye[k] <= box[1][k]:
+                return 0.0
+            continue
+        a, b = (box[0][k] - eye[k]) / d[k], (box[1][k] - eye[k]) / d[k]
+        t0, t1 = max(t0, min(a, b)), min(t1, max(a, b))
+    return max(0.0, t1 - t0) * float(np.linalg.norm(d))
+
+
+def test_a_box_drawn_behind_or_inside_an_earlier_part_is_dotted_there(examples, shared_models):
+    """A primitive step's box edges are drawn solid only where no part drawn before hides
+    them, and dotted where one does (a read-through: the desk's leg drawn solid across the
+    desk top it stands under, the plate's dowels, sunk in it, drawn solid as posts on it).
+    Checked against the earlier parts' selected boxes with a sight-line test of the test's
+    own, on the cuboid and flat parts (a cylinder's or frustum's box is larger than the solid
+    that hides); every edge of the part's box is drawn whole, in pieces or not."""
+    from h2s_print.sequence.ellipses import HIDE_DEPTH
+
+    cases = _novice_cases(examples, ("desk_fredrik", "pins_plate", "chair_ingolf"))
+    dotted = {}
+    for name, t, plan, view, vp in cases:
+        chosen = plan.chosen()
+        lo, hi = plan.model.bounds
+        depth = HIDE_DEPTH * float(np.linalg.norm(np.subtract(hi, lo)))
+        eye = np.asarray(vp.camera.position, float)
+        before: list[str] = []
+        for s in vp.steps:
+            if s.kind != "primitive":
+                continue
+            boxes = [np.asarray(chosen[q].box, float) for q in before
+                     if plan.primitive(q).type in ("cuboid", "plane")]
+            for st in s.strokes:
+                if st.kind not in ("scaffold", "scaffold_hidden") or len(st.points3d) != 2:
+                    continue
+                a, b = (np.asarray(p, float) for p in st.points3d)
+                # inside the stroke (its ends are where the hiding changes)
+                inner = [a + f * (b - a) for f in (0.1, 0.3, 0.5, 0.7, 0.9)]
+                deep = [max((_deep_inside(eye, p, bx) for bx in boxes), default=0.0)
+                        for p in inner]
+                if st.kind == "scaffold":
+                    assert max(deep) <= 1.5 * depth, (name, view.name, s.index, st.part)
+                elif min(deep) > 1.5 * depth:
+                    dotted[name] = dotted.get(name, 0) + 1
+            # every edge of each drawn box whole: its pieces' lengths add up to its edges'
+            for part in {st.part for st in s.strokes if st.kind.startswith("scaffold")}:
+                if plan.primitive(part).type != "cuboid":
+                    continue
+                box = np.asarray(chosen[part].box, float)
+                ext = box[1] - box[0]
+                want = 4.0 * float(ext.sum())
+                got = sum(float(np.linalg.norm(np.subtract(*st.points3d)))
+                          for st in s.strokes if st.part == part
+                          and st.kind.startswith("scaffold"))
+                assert got == pytest.approx(want, rel=1e-6), (name, view.name, s.index, part)
+            before += sorted({s.part, *(st.part for st in s.strokes)} - {None})
+    # the desk's leg under its top and the plate's dowels in it, at least
+    assert dotted.get("desk_fredrik", 0) >= 2 and dotted.get("pins_plate", 0) >= 6, dotted

@@ -1522,6 +1522,9 @@ class _Context(_Repeats, _Ellipses):
                     made[-1] = self.merge_group(made[-1], [p, *rest], others, repeat)
                 made += [self.spacing_draft(row, axis, face, boxes, shape)
                          for row, axis, face in rows]
+                # the boxes' edges behind the parts drawn before them, dotted
+                made = [replace(d, strokes=self.behind(d.strokes, drawn))
+                        if d.kind == "primitive" else d for d in made]
                 for k, d in enumerate(made):  # lines a later step may say "use" of
                     self._drawn.extend((ln.start, ln.end, len(drafts) + 1 + k) for ln in d.lines)
                 drafts += made

@@ -10,7 +10,7 @@ import numpy as np
 from ..constructions import Face, ellipse_on_face
 from ..instructions import Many, Pts, Spec, brief_fields, spec
 from ..names import natural_key
-from ..occlude import Solid, box_solid, cylinder_solid, hidden, polyhedron, runs
+from ..occlude import Solid, box_solid, cylinder_solid, hidden, hidden_spans, polyhedron, runs
 from ..types import Box, Part, Stroke
 from .drafts import MAX_STEP_WORDS, _Draft, _merged_outlines
 from .geometry import (
@@ -29,6 +29,13 @@ from .words import _cap, _join, _t, _the
 
 #: Distinct shapes (a part and its copies count once) traced in one outline step, at most.
 OUTLINE_SHAPES = 3
+
+#: A scaffold edge counts as hidden by a part drawn before it where the line of sight runs
+#: inside that part for more than this share of the model's diagonal (parts touching within
+#: the fit's tolerances hide nothing of each other) ...
+HIDE_DEPTH = 2e-3
+#: ... over a stretch at least this long on the sheet (mm): shorter ones stay solid.
+HIDE_MIN_MM = 0.5
 
 
 class _Ellipses:
@@ -58,6 +65,50 @@ class _Ellipses:
                     out.append((name, box_solid(box)))
             self._solids[key] = out
         return self._solids[key]
+
+    def behind(self, strokes: Sequence[Stroke], drawn: Sequence[str]) -> tuple[Stroke, ...]:
+        """``strokes`` (a box's edges, drawn in its step) with the stretches that the parts
+        ``drawn`` before it hide (:func:`occlude.hidden_spans`, in their selected boxes) made
+        ``scaffold_hidden``, drawn dotted like the box's own back edges: a read-through met a
+        desk's leg drawn solid across the desk top it stands under, and a plate's dowels, sunk
+        in the plate, drawn solid as posts standing on it.  An edge hidden nowhere is kept as
+        it is; a hidden stretch under :data:`HIDE_MIN_MM` on the sheet is not split off."""
+        names = set(drawn)
+        solids = [sd for name, sd in self.solids(False) if name in names]
+        if not solids:
+            return tuple(strokes)
+        lo, hi = self.plan.model.bounds
+        depth = HIDE_DEPTH * float(np.linalg.norm(np.subtract(hi, lo)))
+        eye = self.camera.position
+        out: list[Stroke] = []
+        for st in strokes:
+            if st.kind != "scaffold" or len(st.points3d) != 2:
+                out.append(st)
+                continue
+            a, b = (np.asarray(p, dtype=float) for p in st.points3d)
+            pa, pb = (np.asarray(p, dtype=float) for p in st.points_mm)
+            page = float(np.linalg.norm(pb - pa))
+            spans = [(s0, s1) for s0, s1 in hidden_spans(a, b, eye, solids, depth)
+                     if (s1 - s0) * page >= HIDE_MIN_MM]
+            if not spans:
+                out.append(st)
+                continue
+            cuts = [0.0]
+            kinds = []
+            for s0, s1 in spans:
+                if s0 > cuts[-1]:
+                    kinds.append("scaffold")
+                    cuts.append(s0)
+                kinds.append("scaffold_hidden")
+                cuts.append(s1)
+            if cuts[-1] < 1.0:
+                kinds.append("scaffold")
+                cuts.append(1.0)
+            for kind, s0, s1 in zip(kinds, cuts, cuts[1:]):
+                out.append(_stroke(kind, st.part, np.array([a + s0 * (b - a), a + s1 * (b - a)]),
+                                   self.camera))
+        # visible edges first, as the scaffold orders them
+        return tuple(sorted(out, key=lambda s: s.kind != "scaffold"))
 
     def ellipse_strokes(self, part: str, fe: Any, basic: bool) -> list[Stroke]:
         """The ellipse ``fe`` of ``part`` as strokes, ``ellipse`` where the drawn primitives
