@@ -1001,6 +1001,16 @@ def _boxes_overlap(a: Box2, b: Box2) -> bool:
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
+#: How a label of each kind is printed: font, colour, role.  A face's name (the first
+#: step's "front", "left side", "top": the words the steps use for the sides) is grey and
+#: slanted, so that it reads as a name for the face, not a point to construct.
+_LABEL_LOOK: dict[str, tuple[str, str, str]] = {
+    "point": ("Helvetica-Bold", "black", "label"),
+    "part": ("Helvetica-Bold", "blue", "part_label"),
+    "face": ("Helvetica-Oblique", "grey", "face_label"),
+}
+
+
 #: A label crossing one of the step's new (thick, coloured) lines counts as crossing this
 #: many drawn lines (:func:`place_labels`).
 NEW_LINE_WEIGHT = 3
@@ -1010,8 +1020,9 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
                  segs: np.ndarray | None = None, new: np.ndarray | None = None) -> list[Item]:
     """A dot at each label's point and its letters beside it (roles ``label_point`` and
     ``label``; a part's short name, kind ``part``, in blue without a dot, on the part if there
-    is room: role ``part_label``), placed so that no two labels overlap each other or another label's dot, every
-    label stays inside the picture, each label is nearer its own dot than any other dot when
+    is room: role ``part_label``; a face's name, kind ``face``, the same way in grey and
+    slanted: role ``face_label``), placed so that no two labels overlap each other or another
+    label's dot, every label stays inside the picture, each label is nearer its own dot than any other dot when
     possible, and then as few drawn lines as possible cross it (one of the step's new lines
     counting :data:`NEW_LINE_WEIGHT`), each ring further from the dot counting as one line
     crossed (then the preferred direction).
@@ -1038,10 +1049,12 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
     pad = 0.25
     names: set[int] = set()  # indices in ``taken`` of parts' names placed
     for k, (lb, (dx, dy)) in enumerate(zip(labels, dots)):
-        part = lb.kind == "part"  # a part's short name: centred on the part, no dot
+        # a part's short name or a face's: centred on the part (the face), no dot
+        part = lb.kind in ("part", "face")
+        font, colour, role = _LABEL_LOOK[lb.kind]
         if not part:
             out.append(Circle(dx, dy, LABEL_DOT_MM, None, 0.0, "black", "label_point"))
-        w = text_width_mm(lb.name, LABEL_PT, "Helvetica-Bold")
+        w = text_width_mm(lb.name, LABEL_PT, font)
         cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
         best: tuple[tuple, Text] | None = None
         rings = ((0.0,) if part else ()) + LABEL_RADII_MM + LABEL_RADII_FAR_MM
@@ -1083,9 +1096,8 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
             for (di, bx0, by0, _, ambiguous, crowded), n in zip(free, crossed.tolist()):
                 score = (ambiguous, crowded, n + ri, di)
                 if best is None or score < best[0]:
-                    best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, "Helvetica-Bold",
-                                        "start", "blue" if part else "black",
-                                        "part_label" if part else "label"))
+                    best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, font, "start",
+                                        colour, role))
             if best is not None and not best[0][0] and not best[0][1] and best[0][2] <= ri:
                 break  # nothing further out can score better
         if best is None:
@@ -1270,8 +1282,13 @@ def _primer_intro(plan: ViewPlan) -> str:
     """The primer's introduction for ``plan``'s view: what "away from" a vanishing point
     means, and, where upright edges run toward a vanishing point of their own (a view from
     high or low), that they do, in the words the steps use (a read-through of the high
-    views met "toward the vanishing point below" and "away from" nowhere explained)."""
+    views met "toward the vanishing point below" and "away from" nowhere explained); where
+    step 1's picture names the first box's faces (labels of kind ``face``), that it does, and
+    which way a width, a depth and a height run (a read-through could not tell which edge of
+    the mixer's base was its width)."""
     text = _t("primer.intro") + " " + _t("primer.away")
+    if any(lb.kind == "face" for st in plan.steps for lb in st.labels):
+        text += " " + _t("primer.sides")
     centre = (plan.camera.paper_mm[0] / 2.0, plan.camera.paper_mm[1] / 2.0)
     up = next((side for vp in plan.vanishing_points if vp.axis == 2
                and (side := vp_side(vp, centre)) is not None), None)

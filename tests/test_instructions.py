@@ -309,9 +309,15 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                 parts = [it.string for it in page.items if isinstance(it, L.Text)
                          and it.role == "part_label" and box[0] <= it.x_mm <= box[2]
                          and box[1] <= it.y_mm <= box[3]]
+                faces = [it.string for it in page.items if isinstance(it, L.Text)
+                         and it.role == "face_label" and box[0] <= it.x_mm <= box[2]
+                         and box[1] <= it.y_mm <= box[3]]
                 for lb in step.labels:
                     if lb.kind == "part":  # a part's short name, on the picture, no dot
                         assert lb.name in parts, (name, step.index, lb.name)
+                        continue
+                    if lb.kind == "face":  # a face's name, on the picture, no dot
+                        assert lb.name in faces, (name, step.index, lb.name)
                         continue
                     h = P @ np.array([*lb.at3d, 1.0])
                     want = h[:2] / h[2]  # the point's projection, sheet mm

@@ -3165,3 +3165,69 @@ def test_a_box_drawn_behind_or_inside_an_earlier_part_is_dotted_there(examples, 
             before += sorted({s.part, *(st.part for st in s.strokes)} - {None})
     # the desk's leg under its top and the plate's dowels in it, at least
     assert dotted.get("desk_fredrik", 0) >= 2 and dotted.get("pins_plate", 0) >= 6, dotted
+
+
+def test_the_first_box_names_the_faces_the_view_shows(examples, shared_models):
+    """Step 1's picture names the first box's faces the view shows in the words the steps use
+    for them (a read-through could not tell which of the train's faces was its front, nor
+    which edge of the mixer's base its width): each name at the centre of a face of the box
+    whose outside faces the eye, named by the picture for left and right (its centre
+    projects left of the opposite face's), by the model for the others; no other step and
+    no control tutorial names faces; the primer says so where step 1 does."""
+    from h2s_print import templates
+    from h2s_print.layout import lay_out_workbook
+
+    words = templates.lookup("steps", "face_labels")
+    cases = _novice_cases(examples, ("box_ivar", "oven_101773"))
+    named = 0
+    for name, t, plan, view, vp in cases:
+        first = next(s for s in vp.steps if s.kind == "primitive")
+        box = np.asarray(plan.chosen()[first.part].box, float)
+        prim = plan.primitive(first.part)
+        if prim.type == "plane":  # drawn in its mid-plane
+            box[:, prim.axis] = box[:, prim.axis].mean()
+        eye = np.asarray(vp.camera.position, float)
+        m = np.asarray(vp.camera.projection_mm, float)
+
+        def proj(p):
+            h = m @ np.array([*p, 1.0])
+            return h[:2] / h[2]
+
+        def centre(axis, k):
+            c = box.mean(axis=0)
+            c[axis] = box[k, axis]
+            return c
+
+        for s in vp.steps:
+            faces = [lb for lb in s.labels if lb.kind == "face"]
+            if s is not first:
+                assert not faces, (name, view.name, s.index)
+                continue
+            for lb in faces:
+                hits = [(axis, k) for axis in range(3) for k in (0, 1)
+                        if np.allclose(lb.at3d, centre(axis, k), atol=1e-9)]
+                if len(hits) == 2 and hits[0][0] == hits[1][0]:  # a flat box's two sides
+                    hits = [h for h in hits if (1 if h[1] else -1) * (eye[h[0]] - box[0, h[0]])
+                            > 0]
+                assert len(hits) == 1, (name, view.name, lb.name)
+                axis, k = hits[0]
+                outward = np.zeros(3)
+                outward[axis] = 1.0 if k else -1.0
+                assert outward @ (eye - np.asarray(lb.at3d)) > 0, (name, view.name, lb.name)
+                assert np.allclose(lb.at_mm, proj(lb.at3d), atol=1e-6)
+                if axis == 0:
+                    left = proj(centre(0, k))[0] < proj(centre(0, 1 - k))[0]
+                    assert lb.name == words["x_lo" if left else "x_hi"], (name, view.name)
+                else:
+                    assert lb.name == words[f"{'xyz'[axis]}_{('lo', 'hi')[k]}"]
+                named += 1
+        primer = lay_out_workbook(t.title, vp, t.paper, view_label=view.name)[1]
+        text = " ".join(" ".join(it.string for it in primer.items
+                                 if getattr(it, "role", "") == "intro").split())
+        said = " ".join(templates.text("pages", "primer.sides").split()[:5])
+        assert (said in text) == bool([lb for lb in first.labels if lb.kind == "face"]), name
+        assert any(lb.kind == "face" for lb in first.labels), (name, view.name)
+    assert named >= 20
+    for (view, level), vp in examples["camera"][2].items():
+        assert (level == "basic") == (not any(lb.kind == "face" for s in vp.steps
+                                              for lb in s.labels)), (view, level)

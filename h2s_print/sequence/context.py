@@ -72,6 +72,7 @@ from .geometry import (
     _anchor_lines,
     _box_corners,
     _contour_strokes,
+    _drawn_box,
     _extent,
     _floor_corner,
     _Line,
@@ -80,6 +81,7 @@ from .geometry import (
     _on_face,
     _on_line,
     _on_segment,
+    _polygon_area_mm2,
     _round,
     _runs_along,
     _same_segment,
@@ -130,6 +132,10 @@ SIZE_SENTENCES = 2
 #: A round part's box is square across its axis within this fraction: its other size is
 #: said to equal the one a size sentence gives (:meth:`_Context.round_sizes`).
 ROUND_SIZES = 0.01
+#: The first box's faces are named on its picture where they are at least this wide on the
+#: sheet (mm: projected area over the longest projected side; the step pages show the sheet
+#: at about half size), room for the word.
+FACE_LABEL_MM = 16.0
 
 
 def _easy_ratio(ratio: float) -> str | None:
@@ -1709,6 +1715,41 @@ class _Context(_Repeats, _Ellipses):
             self._ids = tuple(out)
         return self._ids
 
+    def face_labels(self, part: str) -> tuple[Label, ...]:
+        """The faces of the first box ``part`` that the view shows, each named on the
+        picture in the steps' words ("front", "left", "top"; kind ``face``, at the face's
+        centre), where the face is at least :data:`FACE_LABEL_MM` wide on the sheet: the
+        steps name sides and sizes by these words ("its front", "the base's width"), and a
+        read-through could not tell which of the train's faces was its front, nor which edge
+        of the mixer's base was its width (the primer ties width, depth and height to them).
+        None for a tapered first part, whose faces are not its box's."""
+        prim = self.plan.primitive(part)
+        if prim.type == "frustum":
+            return ()
+        box = _drawn_box(prim, self.chosen[part].box)
+        lo, hi = (np.asarray(b, dtype=float) for b in box)
+        eye = np.asarray(self.camera.position, dtype=float)
+        out = []
+        for axis in range(3):
+            u, v = (a for a in range(3) if a != axis)
+            if hi[u] - lo[u] <= self.tol or hi[v] - lo[v] <= self.tol:
+                continue
+            for end, at, sign in (("lo", lo[axis], -1.0), ("hi", hi[axis], 1.0)):
+                if sign * (eye[axis] - at) <= 0.0:
+                    continue  # seen from behind
+                corners = []
+                for a, b in ((0, 0), (1, 0), (1, 1), (0, 1)):
+                    c = [0.0, 0.0, 0.0]
+                    c[axis], c[u], c[v] = at, (lo[u], hi[u])[a], (lo[v], hi[v])[b]
+                    corners.append(tuple(c))
+                mm = self.camera.project(np.array(corners, dtype=float))
+                longest = max(float(np.linalg.norm(mm[k] - mm[k - 1])) for k in range(4))
+                if _polygon_area_mm2(self.camera, corners) < FACE_LABEL_MM * longest:
+                    continue
+                centre = _vec(np.mean(np.array(corners, dtype=float), axis=0))
+                out.append(self.label(self.words.face_label(axis, end), centre, "face"))
+        return tuple(out)
+
     def label(self, name: str, point: Vec3, kind: str = "point") -> Label:
         mm = self.camera.project(np.array([point], dtype=float))[0]
         return Label(name, point, (float(mm[0]), float(mm[1])), kind)
@@ -1786,6 +1827,8 @@ class _Context(_Repeats, _Ellipses):
                 labels = tuple(self.label(n, p) for n, p in d.labels) + named
                 text = " ".join([d.headline] + [_t("step_text.number", n=k + 1, text=x)
                                                  for k, x in enumerate(subs)])
+            if i == start and level != "basic" and d.part is not None:
+                labels += self.face_labels(d.part)
             steps.append(Step(i + 1, d.part, d.kind, text, d.eyeball, guides, d.strokes, alive,
                               d.headline, subs, summary, labels))
         shown = {st.part for st in steps if st.part is not None} | {

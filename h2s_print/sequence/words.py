@@ -102,6 +102,10 @@ class _Words:
     def face(self, axis: int, end: str) -> str:
         return _raw("faces")[self._key(axis, end)]
 
+    def face_label(self, axis: int, end: str) -> str:
+        """A face's name on its own, on the picture ("front", "left")."""
+        return _raw("face_labels")[self._key(axis, end)]
+
     def side(self, axis: int, end: str) -> str:
         return _raw("sides")[self._key(axis, end)]
 
