@@ -1233,7 +1233,10 @@ def test_steps_text_one_line_per_step(examples):
         assert int(m.group(1)) == step.index
         assert int(m.group(3)) == sum(g.status == "new" for g in step.guides)
     assert vp.steps[0].headline.endswith("the first box.")
-    assert "green" in vp.steps[0].text and "vanishing" in vp.steps[0].text
+    # the box stands on the footprint the sheet prints: nothing said of the paper corners
+    # (a read-through found "Place it by the green paper corners" confusing beside it)
+    assert "footprint" in vp.steps[0].text and "vanishing" in vp.steps[0].text
+    assert "green" not in vp.steps[0].text
 
 
 def test_same_input_same_output(examples):
@@ -3231,3 +3234,17 @@ def test_the_first_box_names_the_faces_the_view_shows(examples, shared_models):
     for (view, level), vp in examples["camera"][2].items():
         assert (level == "basic") == (not any(lb.kind == "face" for s in vp.steps
                                               for lb in s.labels)), (view, level)
+
+
+def test_the_paper_corners_place_the_first_box_only_where_no_footprint_is_printed(examples):
+    """The first box stands on the footprint the sheet prints; only where the sheet prints
+    none (its footprint not wholly in front of the camera) do the paper corners place it,
+    and then no footprint is named."""
+    from h2s_print.sequence.drafts import _first_lines, _first_specs
+
+    assert [s.key for s in _first_specs(None)] == ["first_edges", "first_corners"]
+    t, plan, views = examples["camera"]
+    vp = views[(t.views[0].name, "novice")]
+    lines = _first_lines(vp.steps[0].strokes, vp.camera)
+    keys = [s.key for s in _first_specs(lines)]
+    assert lines is not None and keys[0] == "first_footprint" and "first_corners" not in keys

@@ -49,15 +49,18 @@ def _first_lines(strokes: Sequence[Stroke], camera: Camera,
 def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
     """The first box's sub-steps: its footprint on the sheet, and its nearest upright edge
     (printed on the sheet too) when it has a height, the floor below it when it stands above
-    the floor, then its edges and the paper corners.  A flat first part (no height: the IVAR
-    box's base) *is* its footprint, whose edges are gone over ("Its bottom is the blue
-    footprint" then "Draw its edges" asked for a box the footprint already is)."""
-    tall = lines is not None and lines.height is not None
-    floor = lines is not None and lines.floor is not None
-    flat = "_flat" if lines is not None and lines.flat else ""
+    the floor, then its edges.  A flat first part (no height: the IVAR box's base) *is* its
+    footprint, whose edges are gone over ("Its bottom is the blue footprint" then "Draw its
+    edges" asked for a box the footprint already is).  The printed footprint places the box:
+    "Place it by the green paper corners, as pictured" is said only where the sheet prints
+    none (a read-through, with the footprint printed: "confusing")."""
+    if lines is None:
+        return [spec("first_edges"), spec("first_corners")]
+    tall = lines.height is not None
+    floor = lines.floor is not None
+    flat = "_flat" if lines.flat else ""
     return [spec("first_footprint" + flat), *([spec("first_height")] if tall else []),
-            *([spec("first_floor")] if floor else []), spec("first_edges" + flat),
-            spec("first_corners")]
+            *([spec("first_floor")] if floor else []), spec("first_edges" + flat)]
 
 
 #: Guide ids of the sheet's printed lines on the first step (:func:`_sheet_guides`), and of
