@@ -43,8 +43,10 @@ Decisions where the brief is silent (documented here, kept in one place):
   spaces ("shutter_button" -> "shutter button").  Horizon and arrow tips come from
   :func:`h2s_print.project.horizon_mm` and :func:`h2s_print.project.edge_exit`.
 * **Control condition** (level ``basic``): no primer page, a cover without guide or erasing
-  wording (``cover.how_basic``), a key without guide styles (no step has guides), and the
-  level is shown as plain "basic", so the control workbook never mentions guides.
+  wording (``cover.how_basic``), a key without guide styles (no step has guides) but the
+  sheet's printed lines, which its step 1 draws on as the guided tutorial's does
+  (:func:`_control_printed`), and the level is shown as plain "basic", so the control
+  workbook never mentions guides.
 * **Book outline**: a workbook label ``"Camera > front-left > novice"`` (parts joined by
   :data:`OUTLINE_SEP`) gives outline levels tutorial > view > level; the workbook's own
   bookmarks (cover, primer, steps ...) sit one level below.
@@ -66,7 +68,7 @@ from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct, ellipse_on_face
 from .errors import RenderError
 from .glyphs import ascii_font, printable, spelled
-from .project import make_camera, vp_side
+from .project import first_box_lines, make_camera, vp_side
 from .sequence.geometry import ALONG_MM
 from .types import Guide, Label, Step, Stroke, ViewPlan
 
@@ -921,7 +923,39 @@ def _drawing(view: _View, plan: ViewPlan, i: int,
     for g, key in guides:
         if key == "guide_sheet":
             items += view.lines([g.from_mm, g.to_mm], STYLES[key], key)
+    printed = _control_printed(plan)
+    if printed is not None and printed[0] == i:
+        for a, b in printed[1]:
+            items += view.lines([a, b], STYLES["guide_sheet"], "printed")  # not a guide
     return items
+
+
+def _control_printed(plan: ViewPlan) -> tuple[int, list[tuple[Pt, Pt]]] | None:
+    """For the control tutorial (level ``basic``): its first box's step and the lines the
+    calibrated sheet prints of that box (:func:`h2s_print.project.first_box_lines`, as
+    :mod:`h2s_print.sheet` prints them), sheet mm; else None.  Its steps carry no guides (the
+    plan.json contract), but its sheet prints the footprint, the nearest upright edge and the
+    floor line as every sheet does, and step 1 says to draw on them: the picture shows them
+    as the guided tutorial's does (a study designer's review: "Its bottom is the blue
+    footprint on your sheet" beside a picture with no blue line, and no key for it)."""
+    if plan.level != "basic":
+        return None
+    for k, step in enumerate(plan.steps):
+        if step.kind not in ("primitive", "basic") or not step.strokes:
+            continue
+        lines = first_box_lines(plan.camera, [p for st in step.strokes for p in st.points3d],
+                                plan.floor_z)
+        if lines is None:
+            return None
+        pts = list(lines.footprint)
+        segs3 = [(pts[j], pts[(j + 1) % 4]) for j in range(4)]
+        segs3 += [seg for seg in (lines.height, lines.floor) if seg is not None]
+        out = []
+        for a, b in segs3:
+            pa, pb = plan.camera.project(np.array([a, b], dtype=float))
+            out.append(((float(pa[0]), float(pa[1])), (float(pb[0]), float(pb[1]))))
+        return k, out
+    return None
 
 
 #: Letters on a step's picture: size (pt), dot radius (mm), distances from the dot tried (mm).
@@ -1383,7 +1417,7 @@ def _final_strokes(plan: ViewPlan, final: Sequence[Stroke]) -> tuple[Stroke, ...
 
 def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
                 final: Sequence[Stroke], level: str | None,
-                how: Sequence[str] | None = None) -> Page:
+                how: Sequence[str] | None = None, time: bool = True) -> Page:
     items: list[Item] = []
     x0, y0, x1, y1 = f.box
     landscape = f.width > f.height
@@ -1397,7 +1431,7 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
     facts = [_t("cover.view", view=view_label),
              *([_t("cover.level", level=level)] if level is not None else []),
              _t("cover.steps", n=len(plan.steps)),
-             _t("cover.time", minutes=estimate_minutes(plan))]
+             *([_t("cover.time", minutes=estimate_minutes(plan))] if time else [])]
     for fact in facts:
         para, top = _paragraph(x0, top, text_w, fact, 12, role="cover_fact")
         items += para
@@ -1603,7 +1637,7 @@ def _legend_keys(plan: ViewPlan) -> list[str]:
     roles = {g.role for step in plan.steps for g in step.guides}
     if not roles - {"sheet"}:  # master and basic: no constructed guide to explain
         keys = [k for k in keys if not k.startswith("guide_") or k == "guide_sheet"]
-    if "sheet" not in roles:
+    if "sheet" not in roles and _control_printed(plan) is None:
         keys.remove("guide_sheet")
     return keys
 
@@ -1715,7 +1749,7 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
                      grid: bool = False,
                      final: tuple[Stroke, ...] = (), margin_mm: float | None = None,
                      level_label: str | None = None, how: Sequence[str] | None = None,
-                     cover_level: bool = True) -> tuple[Page, ...]:
+                     cover_level: bool = True, cover_time: bool = True) -> tuple[Page, ...]:
     """Every page of one workbook (one model, view and level), laid out in mm.
 
     Pages: cover, primer, step pages (1 step per page for novices, else 2), the finished
@@ -1737,6 +1771,9 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
             sheet is not the workbook's last page).
         cover_level: the cover says the level ("Level: novice"); a study packet's does not
             (its condition is in the headers, in neutral words).
+        cover_time: the cover gives the estimated time; a study packet's does not (it
+            differed between conditions, 25-30 against 15 minutes, a cue to which tutorial is
+            the fuller one and a pace to keep: a study designer's review).
 
     Returns:
         The pages in print order, page numbers in the footers, bookmarks attached.
@@ -1754,7 +1791,7 @@ def lay_out_workbook(title: str, plan: ViewPlan, paper: PaperSpec, *, view_label
     level = plain_text(level_label) if level_label is not None else _level_name(plan.level)
     right = _t("step.header", title=title, view=view_label, level=level)
     pages: list[Page] = [_cover_page(f, title, plan, view_label, final,
-                                     level if cover_level else None, how)]
+                                     level if cover_level else None, how, cover_time)]
     if plan.level != "basic":  # the control condition gets no How2Sketch constructions
         pages.append(_primer_page(f, title, right, primer_diagrams(), _primer_intro(plan)))
     hints = _erase_hints(plan)

@@ -338,6 +338,10 @@ def questionnaire_page(paper: PaperSpec, title: str, participant: str, order: in
     items, top = _header(f, heading, _t("cover.participant", participant=participant))
     para, top = _paragraph(x0, top - 2, x1 - x0, _t("questionnaire.intro"), 10)
     items += para
+    # the drawing's start and end, written by the experimenter (responses.csv's columns)
+    para, top = _paragraph(x0, top - 2, x1 - x0, _t("questionnaire.time"), 10,
+                           role="experimenter", colour="grey")
+    items += para
     top -= 6
     for q in templates.lookup("study", "questionnaire.items"):
         para, top = _paragraph(x0, top, x1 - x0, plain_text(q["question"]), 11,
@@ -442,7 +446,7 @@ def workbooks(cfg: StudyConfig, results: Sequence, folder: Path) -> dict[tuple[s
                 pages = lay_out_workbook(t.title, vp, t.paper, view_label=vp.name,
                                          final=final, grid=t.sheet.grid,
                                          level_label=condition_name(vp.level), how=how,
-                                         cover_level=False)
+                                         cover_level=False, cover_time=False)
             sheet = pages[-1]
             m = t.paper.margin_mm
             w, h = sheet.width_mm, sheet.height_mm
@@ -511,6 +515,34 @@ def _assignment_csv(study: Study, books: dict[tuple[str, str], Workbook]) -> byt
     return buf.getvalue().encode("utf-8")
 
 
+def _responses_csv(study: Study) -> bytes:
+    """The questionnaires' data sheet, to be filled in by hand: a row per drawing (as
+    ``assignment.csv``), the times the experimenter writes on the questionnaire page, one
+    column per question (``q1`` ... in the questionnaire's order, 1-5) and the free text;
+    then, one row per participant, their preferred tutorial (a study designer's review: no
+    template to enter the answers in, and completion time recorded nowhere)."""
+    n = len(templates.lookup("study", "questionnaire.items"))
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["row", "participant", "order", "object", "condition", "started", "finished",
+                *[f"q{k + 1}" for k in range(n)], "comments"])
+    for d in study.drawings:
+        w.writerow([d.row, d.participant, d.order, d.object, d.condition, "", "",
+                    *([""] * n), ""])
+    return buf.getvalue().encode("utf-8")
+
+
+def _preferences_csv(study: Study) -> bytes:
+    """One row per participant: the condition they preferred (the last page's answer, in the
+    condition's id as ``assignment.csv`` has it) and why, to be filled in by hand."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(["participant", "preferred", "why"])
+    for participant in study.participants:
+        w.writerow([participant, "", ""])
+    return buf.getvalue().encode("utf-8")
+
+
 def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
     """Every file of the study in ``folder``, as bytes (module docstring).
 
@@ -552,12 +584,16 @@ def make_study(cfg: StudyConfig, results: Sequence, folder: Path) -> StudyBuild:
     for wb in books.values():
         with fonts.using(wb.pages[-1].font), templates.using(cfg.language):
             keys.append(answer_key(wb.pages[-1], wb.key, _t(
-                "key.heading", object=wb.title, view=wb.view, condition=wb.condition),
+                "key.heading", object=wb.title, view=wb.view, condition=wb.condition,
+                named=condition_name(wb.condition)),
                 _t("key.bookmark", object=wb.title, condition=wb.condition), cfg.title))
     files.append((folder / "answer-keys.pdf", pdf_bytes(keys)))
     for wb in books.values():
         files.append((wb.key.printed, render_png(_blank(wb.pages[-1]), PX_PER_MM * 25.4)))
     files.append((folder / "assignment.csv", _assignment_csv(study, books)))
+    with templates.using(cfg.language):
+        files.append((folder / "responses.csv", _responses_csv(study)))
+    files.append((folder / "preferences.csv", _preferences_csv(study)))
     from .files import dumps_json
     files.append((folder / "study.json", dumps_json(study_json(study)).encode("utf-8")))
     note = balance_note(len(cfg.participants), len(cfg.objects), len(cfg.conditions),

@@ -63,8 +63,9 @@ FIELDS: dict[str, frozenset[str]] = {
         "vdir", "view", "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((
-        "condition", "config", "fill", "margin", "n", "n_drawings", "object", "page", "pages",
-        "participant", "questionnaire", "rows", "sheet", "study", "title", "total", "view")),
+        "condition", "config", "fill", "margin", "n", "n_drawings", "named", "object", "page",
+        "pages", "participant", "questionnaire", "rows", "sheet", "study", "title", "total",
+        "view")),
 }
 
 

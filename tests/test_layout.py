@@ -840,6 +840,44 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
     assert checked >= 8
 
 
+def test_the_control_tutorials_step_one_shows_the_lines_its_sheet_prints(examples):
+    """The control tutorial has no guides, but its sheet prints the first box's footprint
+    and nearest upright edge (and the floor line) like every sheet, and its step 1 says to
+    draw on them: its picture shows those very lines (same mm as the sheet) in the sheet's
+    dashed blue, at step 1 only, with their key, and not as guides (role ``printed``; a study
+    designer's review: "Its bottom is the blue footprint on your sheet" beside a picture with
+    no blue line)."""
+    checked = 0
+    ident = None
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            vp = views[(view.name, "basic")]
+            ident = L._View((0, 0, *vp.paper_mm), (0, 0, *vp.paper_mm))
+            sheet = S.lay_out_sheet(t.title, vp, margin_mm=t.paper.margin_mm)
+            lines = [it for it in sheet.items if isinstance(it, L.Polyline)
+                     and it.role in ("ground", "ground_edge")]
+            want = set()
+            for it in lines:
+                pts = list(it.points_mm) + ([it.points_mm[0]] if it.closed else [])
+                want |= {tuple(sorted((tuple(np.round(a, 6)), tuple(np.round(b, 6)))))
+                         for a, b in zip(pts, pts[1:])}
+            assert len(want) >= 5, (name, view.name)
+            for i, st in enumerate(vp.steps):
+                items = L._drawing(ident, vp, i)
+                got = {tuple(sorted((tuple(np.round(it.points_mm[0], 6)),
+                                     tuple(np.round(it.points_mm[-1], 6)))))
+                       for it in items if isinstance(it, L.Polyline) and it.role == "printed"}
+                if i == 0:
+                    assert got == want, (name, view.name)
+                    assert "footprint" in st.text
+                else:
+                    assert not got, (name, view.name, i)
+            assert not any(st.guides for st in vp.steps)  # still none in the plan
+            assert "guide_sheet" in L._legend_keys(vp)
+            checked += 1
+    assert checked == 8
+
+
 def _novice_sheets(examples):
     """(name, view, tutorial, view plan, drawing sheet) of every example's novice views."""
     for name, (t, plan, views) in examples.items():

@@ -3130,15 +3130,20 @@ def test_a_box_drawn_behind_or_inside_an_earlier_part_is_dotted_there(examples, 
     from h2s_print.sequence.ellipses import HIDE_DEPTH
 
     cases = _novice_cases(examples, ("desk_fredrik", "pins_plate", "chair_ingolf"))
+    # the control tutorial the same way, its boxes the fitted ones
+    cases += [(name + ":basic", t, plan, next(v for v in t.views if v.name == view), vp)
+              for name, (t, plan, views) in examples.items()
+              for (view, level), vp in views.items() if level == "basic"]
     dotted = {}
     for name, t, plan, view, vp in cases:
-        chosen = plan.chosen()
+        basic = name.endswith(":basic")
+        chosen = ({p.part: p for p in plan.primitives} if basic else plan.chosen())
         lo, hi = plan.model.bounds
         depth = HIDE_DEPTH * float(np.linalg.norm(np.subtract(hi, lo)))
         eye = np.asarray(vp.camera.position, float)
         before: list[str] = []
         for s in vp.steps:
-            if s.kind != "primitive":
+            if s.kind != ("basic" if basic else "primitive"):
                 continue
             boxes = [np.asarray(chosen[q].box, float) for q in before
                      if plan.primitive(q).type in ("cuboid", "plane")]
@@ -3166,8 +3171,10 @@ def test_a_box_drawn_behind_or_inside_an_earlier_part_is_dotted_there(examples, 
                           and st.kind.startswith("scaffold"))
                 assert got == pytest.approx(want, rel=1e-6), (name, view.name, s.index, part)
             before += sorted({s.part, *(st.part for st in s.strokes)} - {None})
-    # the desk's leg under its top and the plate's dowels in it, at least
+    # the desk's leg under its top and the plate's dowels in it, at least; the control
+    # tutorial's boxes too
     assert dotted.get("desk_fredrik", 0) >= 2 and dotted.get("pins_plate", 0) >= 6, dotted
+    assert sum(v for k, v in dotted.items() if k.endswith(":basic")) >= 4, dotted
 
 
 def test_the_first_box_names_the_faces_the_view_shows(examples, shared_models):

@@ -126,7 +126,7 @@ def _page_gray(path: Path, index: int, dpi: float = 300) -> np.ndarray:
 def test_study_writes_its_files(built):
     names = sorted(p.relative_to(built).as_posix() for p in built.rglob("*") if p.is_file())
     assert names == sorted(
-        ["study.json", "assignment.csv", "answer-keys.pdf"]
+        ["study.json", "assignment.csv", "answer-keys.pdf", "responses.csv", "preferences.csv"]
         + [f"packets/{p}.pdf" for p in PARTICIPANTS]
         + [f"sheets/{o}-{c}.png" for o in OBJECTS for c in CONDITIONS])
     study = read_study(built)
@@ -139,6 +139,42 @@ def test_study_writes_its_files(built):
     cells = Counter((d.object, d.condition) for d in study.drawings)
     assert sorted(cells.values()) == [3, 3, 3, 3]
     assert all(d.condition == "novice" for d in study.drawings if d.order == 1)
+
+
+def test_the_answers_have_a_data_sheet_and_the_times_a_place(built):
+    """responses.csv has a row per drawing (as assignment.csv) with the times the
+    experimenter writes on the questionnaire page and a column per question, empty;
+    preferences.csv a row per participant; every questionnaire page asks for the times; no
+    tutorial cover in a packet gives an estimated time, which differed between the
+    conditions (a study designer's review: a cue, a pace, and no time recorded)."""
+    from h2s_print import templates
+
+    study = read_study(built)
+    rows = list(csv.DictReader(io.StringIO((built / "responses.csv").read_text())))
+    items = templates.lookup("study", "questionnaire.items")
+    assert len(rows) == len(study.drawings)
+    for row, d in zip(rows, study.drawings):
+        assert (int(row["row"]), row["participant"], int(row["order"]), row["object"],
+                row["condition"]) == (d.row, d.participant, d.order, d.object, d.condition)
+        assert [row[f"q{k + 1}"] for k in range(len(items))] == [""] * len(items)
+        assert row["started"] == row["finished"] == row["comments"] == ""
+    prefs = list(csv.DictReader(io.StringIO((built / "preferences.csv").read_text())))
+    assert [r["participant"] for r in prefs] == list(study.participants)
+    time_words = " ".join(templates.text("study", "questionnaire.time").split()[:3])
+    estimate = templates.text("pages", "cover.time", minutes=0).split("0")[0].strip()
+    for participant in PARTICIPANTS:
+        texts = _pdf_pages(built / "packets" / f"{participant}.pdf")
+        quests = [t for t in texts if items[0]["question"] in t]
+        assert len(quests) == 2 and all(time_words in " ".join(t.split()) for t in quests)
+        assert not any(estimate in t for t in texts), participant
+    # each answer key names its condition as the sheets' stamps do, to be matched to them
+    keys = _pdf_pages(built / "answer-keys.pdf")
+    stamped = {"novice": "with guides", "basic": "without guides"}
+    assert len(keys) == 4
+    for text in keys:
+        flat = " ".join(text.split())
+        said = [c for c, words in stamped.items() if f'the tutorial {words}"' in flat]
+        assert len(said) == 1 and f"condition {said[0]}" in flat, flat
 
 
 def test_every_sheet_is_stamped_and_its_code_reads_back(built):

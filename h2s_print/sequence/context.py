@@ -1681,7 +1681,9 @@ class _Context(_Repeats, _Ellipses):
                 subs = (tuple(_first_specs(_first_lines(lines, self.camera, self.floor_z(True))))
                         if i == 0
                         else (spec("basic_part"),))
-                drafts.append(_Draft(p, "basic", True, (), lines, head, subs))
+                # its edges behind the boxes drawn before it dotted, as in the guided tutorial
+                drafts.append(_Draft(p, "basic", True, (), self.behind(lines, order[:i], True),
+                                     head, subs))
             drafts += [d for p in order if _round(self.plan.primitive(p))
                        for d in self.ellipse_drafts(p, self.plan.primitive(p).box, True)]
             outlines = self.contour_drafts(order, self.originals)

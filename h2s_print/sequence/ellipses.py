@@ -66,15 +66,17 @@ class _Ellipses:
             self._solids[key] = out
         return self._solids[key]
 
-    def behind(self, strokes: Sequence[Stroke], drawn: Sequence[str]) -> tuple[Stroke, ...]:
+    def behind(self, strokes: Sequence[Stroke], drawn: Sequence[str],
+               basic: bool = False) -> tuple[Stroke, ...]:
         """``strokes`` (a box's edges, drawn in its step) with the stretches that the parts
-        ``drawn`` before it hide (:func:`occlude.hidden_spans`, in their selected boxes) made
+        ``drawn`` before it hide (:func:`occlude.hidden_spans`, in their selected boxes; for
+        the control tutorial, ``basic``, in their fitted ones) made
         ``scaffold_hidden``, drawn dotted like the box's own back edges: a read-through met a
         desk's leg drawn solid across the desk top it stands under, and a plate's dowels, sunk
         in the plate, drawn solid as posts standing on it.  An edge hidden nowhere is kept as
         it is; a hidden stretch under :data:`HIDE_MIN_MM` on the sheet is not split off."""
         names = set(drawn)
-        solids = [sd for name, sd in self.solids(False) if name in names]
+        solids = [sd for name, sd in self.solids(basic) if name in names]
         if not solids:
             return tuple(strokes)
         lo, hi = self.plan.model.bounds
