@@ -86,3 +86,25 @@ def test_runs_cut_a_closed_loop_where_the_mask_changes_and_join_up():
     assert sum(len(r) - 1 for _, r in out) == 12  # every segment of the loop, once
     whole = runs(loop, np.zeros(13, bool))
     assert len(whole) == 1 and whole[0][0] is False and len(whole[0][1]) == 13
+
+
+def test_hidden_spans_is_the_shadow_of_a_box_worked_out_by_hand():
+    """A segment under a box, seen from above: the eye at (0, 0, 10), the box
+    [-1, 1] x [-1, 1] x [0, 1], the segment from (-3, 0, -1) to (3, 0, -1).  The sight line
+    to (x, 0, -1) meets the box's top (z = 1) at x * 9 / 11, so the box hides |x| < 11 / 9:
+    s in ((3 - 11/9) / 6, (3 + 11/9) / 6).  A segment beside the box is hidden nowhere; one
+    in the box's top face is seen (on a surface facing the eye), and one sunk into the box
+    by less than ``depth`` counts as seen, deeper as hidden."""
+    from h2s_print.occlude import box_solid, hidden_spans
+
+    eye = (0.0, 0.0, 10.0)
+    box = box_solid(((-1.0, -1.0, 0.0), (1.0, 1.0, 1.0)))
+    (s0, s1), = hidden_spans((-3.0, 0.0, -1.0), (3.0, 0.0, -1.0), eye, [box], 1e-9)
+    want = ((3 - 11 / 9) / 6, (3 + 11 / 9) / 6)
+    assert abs(s0 - want[0]) < 1e-6 and abs(s1 - want[1]) < 1e-6
+    assert hidden_spans((-3.0, 5.0, -1.0), (3.0, 5.0, -1.0), eye, [box], 1e-9) == []
+    assert hidden_spans((-0.5, 0.0, 1.0), (0.5, 0.0, 1.0), eye, [box], 1e-9) == []
+    assert hidden_spans((-0.5, 0.0, 0.99), (0.5, 0.0, 0.99), eye, [box], 0.02) == []
+    (s0, s1), = hidden_spans((-0.5, 0.0, 0.9), (0.5, 0.0, 0.9), eye, [box], 0.02)
+    assert (s0, s1) == (0.0, 1.0)
+    assert hidden_spans((-3.0, 0.0, -1.0), (3.0, 0.0, -1.0), eye, [], 1e-9) == []

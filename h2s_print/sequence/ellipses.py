@@ -14,6 +14,7 @@ from ..occlude import Solid, box_solid, cylinder_solid, hidden, hidden_spans, po
 from ..types import Box, Part, Stroke
 from .drafts import MAX_STEP_WORDS, _Draft, _merged_outlines
 from .geometry import (
+    _box_corners,
     _end_faces,
     _front_facing,
     _Line,
@@ -76,12 +77,20 @@ class _Ellipses:
         in the plate, drawn solid as posts standing on it.  An edge hidden nowhere is kept as
         it is; a hidden stretch under :data:`HIDE_MIN_MM` on the sheet is not split off."""
         names = set(drawn)
-        solids = [sd for name, sd in self.solids(basic) if name in names]
+        solids = [(name, sd) for name, sd in self.solids(basic) if name in names]
         if not solids:
             return tuple(strokes)
         lo, hi = self.plan.model.bounds
         depth = HIDE_DEPTH * float(np.linalg.norm(np.subtract(hi, lo)))
         eye = self.camera.position
+        # each solid's box on the sheet and its nearest depth: a solid can hide only what
+        # lies behind it and under its box on the sheet
+        reach = {}
+        for name, _ in solids:
+            box = self.plan.primitive(name).box if basic else self.chosen[name].box
+            corners = _box_corners(box)
+            mm = self.camera.project(corners)
+            reach[name] = (mm.min(axis=0), mm.max(axis=0), float(self.camera.depth(corners).min()))
         out: list[Stroke] = []
         for st in strokes:
             if st.kind != "scaffold" or len(st.points3d) != 2:
@@ -89,8 +98,13 @@ class _Ellipses:
                 continue
             a, b = (np.asarray(p, dtype=float) for p in st.points3d)
             pa, pb = (np.asarray(p, dtype=float) for p in st.points_mm)
+            far = float(self.camera.depth(np.array([a, b])).max())
+            lo2, hi2 = np.minimum(pa, pb), np.maximum(pa, pb)
+            near = [sd for name, sd in solids
+                    if reach[name][2] < far and np.all(reach[name][0] <= hi2)
+                    and np.all(lo2 <= reach[name][1])]
             page = float(np.linalg.norm(pb - pa))
-            spans = [(s0, s1) for s0, s1 in hidden_spans(a, b, eye, solids, depth)
+            spans = [(s0, s1) for s0, s1 in hidden_spans(a, b, eye, near, depth)
                      if (s1 - s0) * page >= HIDE_MIN_MM]
             if not spans:
                 out.append(st)
