@@ -1078,7 +1078,7 @@ def test_a_part_is_centred_on_a_line_the_step_says_the_origin_of(examples, share
                 vp = seq.sequence_view(plan, view, level, t.paper, t.sequence)
                 assert not _centred_lines_said(vp.steps), (model, view.name, level)
                 if model == "box_ivar" and level == "novice":
-                    assert any(re.match(r"Centre part \d on the edge [A-Z]{2}\.$", sub)
+                    assert any(re.match(r"Centre part \d [a-z ]+ on the edge [A-Z]{2}\.$", sub)
                                for s in vp.steps for sub in s.substeps)
 
 
@@ -1430,3 +1430,38 @@ def test_sides_in_line_with_the_parents_same_sides_are_said_once(examples):
     t, plan, views = examples["train"]
     wagon = next(s for s in views[("front-left", "master")].steps if s.part == "wagon")
     assert wagon.text.endswith("Its back, front, top and bottom in line with the engine's.")
+
+
+def test_a_centring_says_which_way_and_its_line_lies_in_that_mid_plane(examples, shared_models):
+    """"Centre the head left to right on GY": the direction said is the one across which
+    the line halves the part: the line's lettered ends lie in the part's mid-plane normal to
+    that direction (the box's middle along it), checked in 3D (a read-through could not see
+    how to centre a box on a vertical line; two centrings are two sentences, each with its
+    direction)."""
+    from h2s_print.templates import lookup
+
+    words = lookup("steps", "directions")
+    pat = re.compile(r"^Centre (?:the |part )?.*? (" + "|".join(map(re.escape, words))
+                     + r") on (?:the edge )?([A-Z]'*)([A-Z]'*)")
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            for s in vp.steps:
+                at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels
+                      if lb.kind == "point"}
+                for sub in s.substeps:
+                    m = pat.match(sub)
+                    if not m or s.part not in chosen:
+                        continue
+                    axis = words.index(m.group(1))
+                    box = np.asarray(chosen[s.part].box, float)
+                    mid = box[:, axis].mean()
+                    tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+                    for p in (m.group(2), m.group(3)):
+                        if p in at:  # (a line from an earlier step is lettered there)
+                            assert abs(at[p][axis] - mid) <= tol, (name, view, s.index, sub)
+                    checked += 1
+    assert checked >= 10

@@ -821,6 +821,13 @@ class _Context(_Repeats, _Ellipses):
                             for r in line_runs(v) if len(r.points) == 2)
                 moved = {(x.key.startswith("reuse_carried"), dict(x.fields)["step"])
                          for x in specs[:j] if x.key in _MOVED_CITES}
+                if len(moved) > 1 and "directions" in f:
+                    # lines carried in several steps: the step whose lines place this middle
+                    # (the roller's handle, centred both ways on lines of steps 3 and 4)
+                    mid = self.words.side(_raw("directions").index(f["directions"]), "mid")
+                    moved = {(x.key.startswith("reuse_carried"), dict(x.fields)["step"])
+                             for x in specs[:j] if x.key in _MOVED_CITES
+                             and mid in dict(x.fields).get("mids", ())}
                 if not named and len(moved) == 1:  # (its far end is lettered only now)
                     carried, n = next(iter(moved))
                     out[j] = spec("centred_carried" if carried else "centred_extended",
@@ -1187,7 +1194,11 @@ class _Context(_Repeats, _Ellipses):
                 if carry and not all(_on_line(p, *line, self.tol)
                                      for p in (carry[-1].start, carry[-1].end)):
                     line = (carry[-1].start, carry[-1].end)
-                placing.append(spec("centred", (), ("centred",), part=name, line=Pts(line)))
+                # which way it is centred (a read-through: "Centre the head on GY", a box
+                # on a vertical line, did not say across which of its sizes)
+                placing.append(spec("centred", (), ("centred", anchor.axis), part=name,
+                                    line=Pts(line),
+                                    directions=_raw("directions")[anchor.axis]))
         # an axis with no anchor at all: say what it lines up with, as for a part by eye
         placing += self.free_specs(unguided)
         # no line constructed (faces and planes of drawn parts only): no "these lines" to name
