@@ -108,3 +108,26 @@ def test_hidden_spans_is_the_shadow_of_a_box_worked_out_by_hand():
     (s0, s1), = hidden_spans((-0.5, 0.0, 0.9), (0.5, 0.0, 0.9), eye, [box], 0.02)
     assert (s0, s1) == (0.0, 1.0)
     assert hidden_spans((-3.0, 0.0, -1.0), (3.0, 0.0, -1.0), eye, [], 1e-9) == []
+
+
+def test_boxes_taken_together_hide_what_each_hides():
+    """_hidden_deep takes the boxes together (one array operation); the points it finds
+    hidden are those some box hides by itself, per :func:`_inside`, on seeded boxes, eyes
+    and points (touching and degenerate cases on a coarse grid)."""
+    from h2s_print.occlude import _hidden_deep, _inside
+
+    rng = np.random.default_rng(7)
+    for trial in range(40):
+        boxes = []
+        for _ in range(rng.integers(1, 6)):
+            lo = rng.integers(-4, 4, 3).astype(float)
+            boxes.append(box_solid((lo, lo + rng.integers(0, 4, 3))))
+        eye = rng.integers(-9, 10, 3).astype(float) * 2.0
+        pts = rng.integers(-6, 7, (60, 3)).astype(float) / 2.0
+        depth = float(rng.choice([0.0, 0.1, 1.0]))
+        d = pts - eye
+        want = np.zeros(len(pts), dtype=bool)
+        for b in boxes:
+            t0, t1 = _inside(b, eye, d)
+            want |= (t1 - t0) * np.linalg.norm(d, axis=1) > depth
+        assert (_hidden_deep(pts, eye, boxes, depth) == want).all(), trial
