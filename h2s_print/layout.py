@@ -68,7 +68,7 @@ from .config import MIN_MARGIN_MM, PaperSpec, ViewSpec
 from .constructions import Face, construct, ellipse_on_face
 from .errors import RenderError
 from .glyphs import ascii_font, printable, spelled
-from .project import first_box_lines, make_camera, vp_side
+from .project import first_scaffold_lines, make_camera, vp_side
 from .sequence.geometry import ALONG_MM
 from .types import Guide, Label, Step, Stroke, ViewPlan
 
@@ -932,7 +932,7 @@ def _drawing(view: _View, plan: ViewPlan, i: int,
 
 def _control_printed(plan: ViewPlan) -> tuple[int, list[tuple[Pt, Pt]]] | None:
     """For the control tutorial (level ``basic``): its first box's step and the lines the
-    calibrated sheet prints of that box (:func:`h2s_print.project.first_box_lines`, as
+    calibrated sheet prints of that box (:func:`h2s_print.project.first_scaffold_lines`, as
     :mod:`h2s_print.sheet` prints them), sheet mm; else None.  Its steps carry no guides (the
     plan.json contract), but its sheet prints the footprint, the nearest upright edge and the
     floor line as every sheet does, and step 1 says to draw on them: the picture shows them
@@ -940,22 +940,18 @@ def _control_printed(plan: ViewPlan) -> tuple[int, list[tuple[Pt, Pt]]] | None:
     footprint on your sheet" beside a picture with no blue line, and no key for it)."""
     if plan.level != "basic":
         return None
-    for k, step in enumerate(plan.steps):
-        if step.kind not in ("primitive", "basic") or not step.strokes:
-            continue
-        lines = first_box_lines(plan.camera, [p for st in step.strokes for p in st.points3d],
-                                plan.floor_z)
-        if lines is None:
-            return None
-        pts = list(lines.footprint)
-        segs3 = [(pts[j], pts[(j + 1) % 4]) for j in range(4)]
-        segs3 += [seg for seg in (lines.height, lines.floor) if seg is not None]
-        out = []
-        for a, b in segs3:
-            pa, pb = plan.camera.project(np.array([a, b], dtype=float))
-            out.append(((float(pa[0]), float(pa[1])), (float(pb[0]), float(pb[1]))))
-        return k, out
-    return None
+    found = first_scaffold_lines(plan)
+    if found is None:
+        return None
+    k, lines = found
+    pts = list(lines.footprint)
+    segs3 = [(pts[j], pts[(j + 1) % 4]) for j in range(4)]
+    segs3 += [seg for seg in (lines.height, lines.floor) if seg is not None]
+    out = []
+    for a, b in segs3:
+        pa, pb = plan.camera.project(np.array([a, b], dtype=float))
+        out.append(((float(pa[0]), float(pa[1])), (float(pb[0]), float(pb[1]))))
+    return k, out
 
 
 #: Letters on a step's picture: size (pt), dot radius (mm), distances from the dot tried (mm).

@@ -87,18 +87,7 @@ def cylinder_solid(box: Sequence[Sequence[float]], axis: int) -> Solid:
 def _inside(solid: Solid, eye: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Per segment ``eye + t d`` (``t`` in [0, 1]), the interval ``[t0, t1]`` inside ``solid``
     (empty when ``t0 >= t1``)."""
-    m = len(d)
-    t0, t1 = np.zeros(m), np.ones(m)
-    nd = d @ solid.normals.T  # (m, k)
-    room = solid.offsets - solid.normals @ eye  # (k,)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = room / nd
-    entering = nd < 0
-    leaving = nd > 0
-    never = (nd == 0) & (room < 0)
-    t0 = np.maximum(t0, np.where(entering, t, -np.inf).max(axis=1, initial=-np.inf))
-    t1 = np.minimum(t1, np.where(leaving, t, np.inf).min(axis=1, initial=np.inf))
-    t1 = np.where(never.any(axis=1), -np.inf, t1)
+    t0, t1 = (t[:, 0] for t in _inside_flat([solid], eye, d))  # its planes
     if solid.round is not None:
         axis, (cu, cv), (ru, rv) = solid.round
         u, v = (a for a in range(3) if a != axis)
@@ -175,11 +164,12 @@ def _hidden_deep(points: np.ndarray, eye: np.ndarray, solids: Sequence[Solid],
 
 def _inside_flat(solids: Sequence[Solid], eye: np.ndarray, d: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`_inside` of several solids bounded by the same number of planes (no round
-    cross-section), at once: ``(t0, t1)`` of shape (segments, solids)."""
+    """Per segment ``eye + t d`` and solid, the interval ``[t0, t1]`` inside the solid's
+    half-spaces (its round cross-section, if any, left to :func:`_inside`), for solids with
+    the same number of planes, at once: ``(t0, t1)`` of shape (segments, solids)."""
     normals = np.stack([sd.normals for sd in solids])  # (S, k, 3)
     offsets = np.stack([sd.offsets for sd in solids])  # (S, k)
-    nd = np.einsum("mj,skj->msk", d, normals)  # (m, S, k)
+    nd = (d @ normals.reshape(-1, 3).T).reshape(len(d), *offsets.shape)  # (m, S, k)
     room = offsets - normals @ eye  # (S, k)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = room[None, :, :] / nd

@@ -34,7 +34,7 @@ import numpy as np
 
 from .config import PERSPECTIVES, PaperSpec, ViewSpec
 from .errors import ConfigError
-from .types import Camera, VanishingPoint, readonly
+from .types import Camera, VanishingPoint, ViewPlan, readonly
 
 log = logging.getLogger(__name__)
 
@@ -406,3 +406,19 @@ def first_box_lines(camera: Camera, points3d: Any,
         if not np.any(camera.depth(drop) <= 0):
             floor = drop
     return FirstBoxLines(foot, height, floor, flat=not hi[2] > lo[2])
+
+
+def first_scaffold_lines(plan: ViewPlan) -> tuple[int, FirstBoxLines] | None:
+    """The index of ``plan``'s first scaffold step (kind ``primitive`` or ``basic``, with
+    strokes) and what the calibrated sheet prints of its box (:func:`first_box_lines`, above
+    ``plan.floor_z``); None without such a step or lines.  The sheet prints these lines and
+    the control tutorial's step 1 shows them."""
+    for k, step in enumerate(plan.steps):
+        if step.kind not in ("primitive", "basic") or not step.strokes:
+            continue
+        pts = [p for s in step.strokes for p in s.points3d]
+        if not pts:
+            continue
+        lines = first_box_lines(plan.camera, pts, plan.floor_z)
+        return None if lines is None else (k, lines)
+    return None

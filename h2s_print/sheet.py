@@ -26,7 +26,7 @@ from .layout import (Bookmark, Box2, Circle, Item, LineStyle, Page, Polyline, Pt
                      _green_corners, _level_name,
                      _segments, _t, clip_polyline, fit_line, plain_text, text_width_mm,
                      vp_names)
-from .project import FirstBoxLines, edge_exit, first_box_lines, horizon_mm, vp_side
+from .project import FirstBoxLines, edge_exit, first_scaffold_lines, horizon_mm, vp_side
 from .types import ViewPlan
 
 log = logging.getLogger(__name__)
@@ -49,18 +49,13 @@ def _horizon(plan: ViewPlan) -> tuple[float, float, float] | None:
 
 def _first_lines(plan: ViewPlan) -> tuple[str, FirstBoxLines] | None:
     """The first scaffold step's part and what the sheet prints of its box
-    (:func:`h2s_print.project.first_box_lines`, the definition step 1's sheet guides share)."""
-    for step in plan.steps:
-        if step.kind not in ("primitive", "basic") or not step.strokes:
-            continue
-        pts = [p for s in step.strokes for p in s.points3d]
-        if not pts:
-            continue
-        lines = first_box_lines(plan.camera, pts, plan.floor_z)
-        if lines is None:
-            return None
-        return step.part or step.strokes[0].part, lines
-    return None
+    (:func:`h2s_print.project.first_scaffold_lines`, the definition step 1's sheet guides
+    share)."""
+    found = first_scaffold_lines(plan)
+    if found is None:
+        return None
+    step = plan.steps[found[0]]
+    return step.part or step.strokes[0].part, found[1]
 
 
 def first_ground_quad(plan: ViewPlan) -> tuple[str, tuple[Pt, ...]] | None:

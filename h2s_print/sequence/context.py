@@ -81,12 +81,12 @@ from .geometry import (
     _on_face,
     _on_line,
     _on_segment,
-    _polygon_area_mm2,
     _round,
     _runs_along,
     _same_segment,
     _scaffold,
     _sheet_length,
+    _sheet_polygon,
     _too_small,
     _touching,
     _vec,
@@ -819,15 +819,14 @@ class _Context(_Repeats, _Ellipses):
                 named = any(_same_segment(a, b, r.points[0], r.points[1], self.tol)
                             for x in out[:j] for _, v in x.fields if isinstance(v, (Pts, Many))
                             for r in line_runs(v) if len(r.points) == 2)
-                moved = {(x.key.startswith("reuse_carried"), dict(x.fields)["step"])
-                         for x in specs[:j] if x.key in _MOVED_CITES}
-                if len(moved) > 1 and "directions" in f:
+                cites = [(x.key.startswith("reuse_carried"), xf["step"], xf.get("mids", ()))
+                         for x in specs[:j] if x.key in _MOVED_CITES for xf in (dict(x.fields),)]
+                moved = {(c, n) for c, n, _ in cites}
+                if len(moved) > 1:
                     # lines carried in several steps: the step whose lines place this middle
                     # (the roller's handle, centred both ways on lines of steps 3 and 4)
                     mid = self.words.side(_raw("directions").index(f["directions"]), "mid")
-                    moved = {(x.key.startswith("reuse_carried"), dict(x.fields)["step"])
-                             for x in specs[:j] if x.key in _MOVED_CITES
-                             and mid in dict(x.fields).get("mids", ())}
+                    moved = {(c, n) for c, n, mids in cites if mid in mids}
                 if not named and len(moved) == 1:  # (its far end is lettered only now)
                     carried, n = next(iter(moved))
                     out[j] = spec("centred_carried" if carried else "centred_extended",
@@ -1755,9 +1754,8 @@ class _Context(_Repeats, _Ellipses):
                     c = [0.0, 0.0, 0.0]
                     c[axis], c[u], c[v] = at, (lo[u], hi[u])[a], (lo[v], hi[v])[b]
                     corners.append(tuple(c))
-                mm = self.camera.project(np.array(corners, dtype=float))
-                longest = max(float(np.linalg.norm(mm[k] - mm[k - 1])) for k in range(4))
-                if _polygon_area_mm2(self.camera, corners) < FACE_LABEL_MM * longest:
+                area, longest = _sheet_polygon(self.camera, corners)
+                if area < FACE_LABEL_MM * longest:
                     continue
                 centre = _vec(np.mean(np.array(corners, dtype=float), axis=0))
                 out.append(self.label(self.words.face_label(axis, end), centre, "face"))

@@ -82,21 +82,25 @@ def _tiny_loop(mm: np.ndarray) -> bool:
     return float(max(ext[0], ext[1])) < TINY_LOOP_MM
 
 
-def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
-    """Area on the sheet (mm²) of a planar polygon's projection (shoelace)."""
+def _sheet_polygon(camera: Camera, corners: Sequence[Vec3]) -> tuple[float, float]:
+    """A planar polygon's projection on the sheet: its area (mm², shoelace) and its longest
+    side (mm); the area over the longest side is how wide it is."""
     p = camera.project(np.asarray(corners, dtype=float))
     x, y = p[:, 0], p[:, 1]
-    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+    area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
+    return area, float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
+
+
+def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
+    """Area on the sheet (mm²) of a planar polygon's projection (shoelace)."""
+    return _sheet_polygon(camera, corners)[0]
 
 
 def _too_small(camera: Camera, corners: Sequence[Vec3], k: int, eyeball_mm2: float) -> bool:
     """The eyeball rule for one face with ``k`` lines on it (module docstring): projected area
     over ``k`` under ``eyeball_mm2`` mm², or projected width (area over the longest projected
     side) under ``MIN_FACE_WIDTH_MM``."""
-    p = camera.project(np.asarray(corners, dtype=float))
-    x, y = p[:, 0], p[:, 1]
-    area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
-    longest = float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
+    area, longest = _sheet_polygon(camera, corners)
     return area / k < eyeball_mm2 or not area >= MIN_FACE_WIDTH_MM * longest
 
 
