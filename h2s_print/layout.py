@@ -965,8 +965,11 @@ LABEL_RADII_MM = (1.0, 1.8, 2.8, 4.0, 5.5, 7.5)
 #: Further rings, tried only for a label that finds no room on the rings above (a crowded
 #: picture of a big assembly): farther from its dot, but never on another label.
 LABEL_RADII_FAR_MM = (10.0, 13.0, 17.0, 22.0)
-#: Directions tried round a point, in order of preference (right, up, left, down, diagonals).
-_LABEL_DIRS = ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, -1))
+#: Directions tried round a point, in order of preference (right, up, left, down, diagonals,
+#: then the eight between: a crowded close-up's letter found a place off the step's new
+#: lines there, the roller's ferrule's D').
+_LABEL_DIRS = ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, -1),
+               (2, 1), (1, 2), (-1, 2), (-2, 1), (-2, -1), (-1, -2), (1, -2), (2, -1))
 
 
 def _segments(items: Sequence[Item]) -> np.ndarray:

@@ -988,8 +988,9 @@ def test_letters_crowding_each_other_get_a_close_up_even_when_the_step_s_letters
 def test_letters_keep_off_the_step_s_new_lines(examples):
     """The step's new lines are thick and coloured: a letter across or touching one is lost
     in it (the train's J under the boiler's new edge).  Over the examples' novice pages at
-    most two letters touch one (17 before the new lines counted more than other lines), and
-    never the train's J."""
+    most two letters touch one (17 before the new lines counted more than other lines; since
+    stop 32 sixteen directions round a dot, the roller's T and V, where every other place is
+    nearer another dot), and never the train's J."""
     touching = total = 0
     g = L.STYLES["new"].width_mm / 2
     for name, view, vp, step, page in _novice_step_pages(examples):
