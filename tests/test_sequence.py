@@ -2071,19 +2071,23 @@ def test_an_ellipse_another_part_drew_is_said_not_drawn_again(shared_models):
 
 def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
     """"Carry FG toward the left vanishing point to Q (by eye), then vertically": the turn
-    Q lies on a face of the part that no anchor of its selected candidate places (both
-    read-throughs: nothing defined Q); a turn said without "(by eye)" lies only on anchored
-    faces of the part (checked on the lettered points' 3D positions and the plan's
-    anchors), and, since stop 27, on a line on the paper (the next test)."""
+    Q lies on a plane of the part (a face or its middle) that no anchor of its selected
+    candidate places (both read-throughs: nothing defined Q); a turn said without "(by eye)"
+    lies only on anchored planes of the part (checked on the lettered points' 3D positions
+    and the plan's anchors), and, since stop 27, on a line on the paper (the next test).
+    Since stop 32 a carry turns on the part's anchored middle where no anchor places its
+    near face, and two carries that meet there are one sentence ("... until they cross at
+    Q, then ..."): the roller's handle, centred both ways on the roller, has both."""
     import re
 
     from h2s_print.templates import lookup
 
     eye = lookup("steps", "substep.carry_turn_eye")
     mark = eye[eye.index("{turns}") + len("{turns}"):eye.index(", then")]  # " (by eye)"
-    pattern = re.compile(r"Carry .*? to ((?:[A-Z]'*(?:, | and )?)+)(" + re.escape(mark)
-                         + r")?, then")
+    pattern = re.compile(r"Carry .*? (?:to|until they cross at) ((?:[A-Z]'*(?:, | and )?)+)("
+                         + re.escape(mark) + r")?, then")
     counts = {True: 0, False: 0}
+    met = 0
     anchored_by_eye = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
@@ -2108,9 +2112,11 @@ def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
                 by_eye = m.group(2) is not None
                 for letter in re.findall(r"[A-Z]'*", m.group(1)):
                     p = at[letter]
-                    ends = {(ax, e) for ax in range(3) for e, v in (("lo", lo), ("hi", hi))
+                    ends = {(ax, e) for ax in range(3)
+                            for e, v in (("lo", lo), ("hi", hi), ("mid", 0.5 * (lo + hi)))
                             if abs(p[ax] - v[ax]) <= tol}
                     assert ends, (name, vp.name, s.index, x)
+                    met += "until they cross at" in x
                     # (where an anchor places the face, the turn may still be by eye: on no
                     # line on the paper; test_a_carry_turns_on_a_line_the_paper_shows_...)
                     if not ends <= anchored:
@@ -2120,7 +2126,8 @@ def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
                             name, vp.name, s.index, x)
                         anchored_by_eye += 1
                 counts[by_eye] += 1
-    assert counts[True] and counts[False] and anchored_by_eye, (counts, anchored_by_eye)
+    assert counts[True] and counts[False] and anchored_by_eye and met, (
+        counts, anchored_by_eye, met)
 
 
 def test_a_part_that_barely_shows_is_only_traced(examples):
@@ -2233,7 +2240,13 @@ def test_an_apprentice_is_told_only_of_lines_its_picture_draws(examples, shared_
             lines = pictured[-1]
             at = {lb.name: lb.at_mm for lb in s.labels if lb.kind == "point"}
             for x in s.substeps:
-                assert not re.search(r"\bdiagonals?\b|cross(es|ing)? at", x), (name, view, s.index, x)
+                # (two carried guides that meet, "until they cross at G", are both pictured:
+                # the crossing lies on a line drawn here, checked below)
+                assert not re.search(r"\bdiagonals?\b|cross(es|ing)? at",
+                                     x.replace("until they cross at", "")), (name, view, s.index, x)
+                for p in re.findall(r"until they cross at ([A-Z]'*)", x):
+                    assert sum(_on_segment(at[p], a, b, 0.05) for a, b in lines) >= 2, (
+                        name, view, s.index, x)
                 # a line it names lies on a line pictured here, or on the step it cites
                 cite = re.search(r"from step (\d+)", x)
                 where = pictured[int(cite.group(1)) - 1] if cite else lines
@@ -2332,23 +2345,30 @@ def test_a_carry_turns_on_a_line_the_paper_shows_or_says_by_eye(examples):
             vp = views[(view.name, "novice")]
             seen: dict[str, tuple] = {}
             drawn: list[tuple] = []
+            turned: set[tuple] = set()  # (letter, where) an earlier carry turned at
             for s in vp.steps:
                 for g in s.guides:
                     seen.setdefault(g.id, (g.from_mm, g.to_mm))
                 guides = [seen[g] for g in s.alive if g in seen]
                 at = {lb.name: lb.at_mm for lb in s.labels if lb.kind == "point"}
                 for x in s.substeps:
-                    m = re.match(r"Carry .*? to ([A-Z'](?:[A-Z', and]*?)), then", x)
-                    if not m or "(by eye)" in x:
+                    m = re.match(r"Carry .*? to ([A-Z'](?:[A-Z', and]*?))(?: \(by eye\))?, then",
+                                 x)
+                    if not m:
                         continue
-                    for letter in re.findall(r"[A-Z]'*", m.group(1)):
+                    letters = re.findall(r"[A-Z]'*", m.group(1))
+                    for letter in ([] if "(by eye)" in x else letters):
                         p = at[letter]
                         # on a drawn edge, or crossing a guide (a guide ending there is the
-                        # carry's own leg)
-                        assert any(_on_segment(p, a, b, 0.05) for a, b in drawn) or any(
+                        # carry's own leg), or where a carry before it turned (the train's
+                        # chimney: its top carried to C, the corner its back was carried to;
+                        # A'B' in step 10 to H', a corner of step 9)
+                        assert (letter, tuple(np.round(p, 3))) in turned or any(
+                            _on_segment(p, a, b, 0.05) for a, b in drawn) or any(
                             _on_segment(p, a, b, 0.05) and min(math.dist(p, a), math.dist(p, b)) > 0.05
                             for a, b in guides), (name, view.name, s.index, x)
                         checked += 1
+                    turned.update((q, tuple(np.round(at[q], 3))) for q in letters)
                 drawn += [(st.points_mm[k], st.points_mm[k + 1]) for st in s.strokes
                           for k in range(len(st.points_mm) - 1)]
     # (an edge alignment is taken from the parent's face nearest the part, so most carries
@@ -2625,7 +2645,8 @@ def test_twin_lines_say_which_crosses_which(examples):
     for name, step, s, at, _ in _novice_substeps(examples):
         m = pair.fullmatch(s)
         if m is None:
-            assert "they cross" not in s, (name, step.index, s)
+            # ("until they cross at Q", two carried lines meeting, names one crossing)
+            assert not re.search(r"they cross [A-Z]", s), (name, step.index, s)
             continue
         l1, l2, o1, p1, o2, p2 = m.groups()
         for line, other, p in ((l1, o1, p1), (l2, o2, p2)):

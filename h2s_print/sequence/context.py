@@ -1090,9 +1090,11 @@ class _Context(_Repeats, _Ellipses):
                     runs.append(Pts((a, b)))
                     if turn is not None:  # where it turns, lettered on the picture
                         corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
-                        n = face.normal  # the turn lies in the part's face across n
-                        end = "lo" if face.coord < cand.box[0][n] else "hi"
-                        if not any(a.axis == n and a.end == end for a in cand.anchors):
+                        n = face.normal  # the turn lies on a plane of the part across n
+                        placed = [cand.box[0][n] if a.end == "lo" else cand.box[1][n]
+                                  if a.end == "hi" else 0.5 * (cand.box[0][n] + cand.box[1][n])
+                                  for a in cand.anchors if a.axis == n]
+                        if not any(abs(carry[0].end[n] - v) <= 10.0 * self.tol for v in placed):
                             by_eye_turns.add((first, turn))
                         else:
                             turns.append(((first, turn), carry[0].end, tuple(carry)))
@@ -1156,13 +1158,40 @@ class _Context(_Repeats, _Ellipses):
             carrying = [moving("carry_two", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
                                lines2=Many(tuple(r1)), vp2=words.vp(a1, *legs[a1, None][0]))]
         else:
-            carrying = [moving("carry", runs, vp=words.vp(axis, *legs[axis, turn][0]))
-                        if turn is None else
-                        moving("carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
-                               runs, vp=words.vp(axis, *legs[axis, turn][0]),
-                               vp2=words.vp(turn, *legs[axis, turn][-1]),
-                               turns=Many(tuple(corners[axis, turn])))
-                        for axis, turn, runs in carries]
+            # two lines carried from two sides to one turn, where they cross (the roller's
+            # handle: its two centring lines meet on the roller's common bisector planes):
+            # one sentence, the crossing said once ("Carry FG ... to Q" then "LM ... to Q" had
+            # the reader look for Q before the second line made it)
+            meet: dict[tuple[int, int | None], tuple[int, int | None]] = {}
+            for i, (ax0, t0, r0) in enumerate(carries):
+                for ax1, t1, r1 in carries[i + 1:]:
+                    if (t0 is not None and t0 == t1 and ax0 != ax1 and len(r0) == len(r1) == 1
+                            and (ax0, t0) not in meet and (ax1, t1) not in meet
+                            and (ax0, t0) not in by_eye_turns and (ax1, t1) not in by_eye_turns
+                            and _same_segment(*[corners[ax0, t0][0].points[0]] * 2,
+                                              *[corners[ax1, t1][0].points[0]] * 2,
+                                              10.0 * self.tol)):
+                        meet[ax0, t0], meet[ax1, t1] = (ax1, t1), (ax0, t0)
+            carrying = []
+            for axis, turn, runs in carries:
+                if turn is None:
+                    carrying.append(moving("carry", runs, vp=words.vp(axis, *legs[axis, turn][0])))
+                elif (axis, turn) in meet:
+                    other = meet[axis, turn]
+                    if other < (axis, turn):
+                        continue  # said with the other
+                    r1 = carried[other]
+                    carrying.append(moving(
+                        "carry_meet", runs, r1, vp=words.vp(axis, *legs[axis, turn][0]),
+                        lines2=Many(tuple(r1)), vp2=words.vp(other[0], *legs[other][0]),
+                        vp3=words.vp(turn, *legs[axis, turn][-1]),
+                        turns=Many(tuple(corners[axis, turn]))))
+                else:
+                    carrying.append(moving(
+                        "carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
+                        runs, vp=words.vp(axis, *legs[axis, turn][0]),
+                        vp2=words.vp(turn, *legs[axis, turn][-1]),
+                        turns=Many(tuple(corners[axis, turn]))))
         if extended:
             carrying.append(moving("extend_to", extended))
         carry_units: list[_Unit] = []

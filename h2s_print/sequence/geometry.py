@@ -268,9 +268,27 @@ def _anchor_face(anchor: Any, pbox: Box, camera: Camera) -> Face:
     return best[1]
 
 
-def _carry_lines(con: Any, face: Face, child: Box, tol: float) -> list[_Line]:
+def _turn_plane(anchors: Sequence[Any], child: Box, n: int, near: str) -> float:
+    """Where along axis ``n`` a carry toward the child turns: on a plane of the child one of
+    its ``anchors`` places, so that the turn lies where a construction crosses (read-throughs
+    found "Carry FG ... to Q (by eye)" where Q was on no line).  The near face (``near``:
+    ``lo`` or ``hi``) if an anchor places it, else the anchored middle (two parts' centring
+    lines then meet on their common bisector planes, as in the paper's roller), else the
+    anchored far face; with none, the near face (judged by eye)."""
+    ends = {a.end for a in anchors if a.axis == n}
+    side = 0 if near == "lo" else 1
+    if near in ends or not ends:
+        return child[side][n]
+    if "mid" in ends:
+        return 0.5 * (child[0][n] + child[1][n])
+    return child[1 - side][n]
+
+
+def _carry_lines(con: Any, face: Face, child: Box, tol: float,
+                 anchors: Sequence[Any] = ()) -> list[_Line]:
     """Alignment lines, in the plane of the anchored end, from the construction's result line
-    to the child's end face (module docstring)."""
+    to the child's end face (module docstring); with the child's ``anchors``, a carry across
+    the face's normal turns on a plane they place (:func:`_turn_plane`)."""
     a, n = con.axis, face.normal
     o = 3 - a - n
     c = face.coord
@@ -289,7 +307,7 @@ def _carry_lines(con: Any, face: Face, child: Box, tol: float) -> list[_Line]:
         if clo < plo - tol:
             segs.append((pt(c, plo), pt(c, clo)))
     else:
-        m = child[0][n] if c < child[0][n] else child[1][n]
+        m = _turn_plane(anchors, child, n, "lo" if c < child[0][n] else "hi")
         centre = 0.5 * (clo + chi)
         ostar = plo if abs(plo - centre) < abs(phi - centre) else phi
         segs.append((pt(c, ostar), pt(m, ostar)))
@@ -346,7 +364,7 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
     cbox = _drawn_box(plan.primitive(cand.part), cand.box)
     face = _anchor_face(anchor, pbox, camera)
     con = construct(face, anchor.axis, anchor.ratio)
-    carry = _carry_lines(con, face, cbox, tol)
+    carry = _carry_lines(con, face, cbox, tol, cand.anchors)
     if carry and anchor.end != "mid" and entry_for(anchor.ratio).in_line:
         best = _carry_cost(con, carry, pbox, tol)
         biggest = max(_extent(pbox, a) for a in range(3))
@@ -356,7 +374,7 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
             for end in ("lo", "hi"):
                 other = Face(pbox, n, end)
                 c2 = construct(other, anchor.axis, anchor.ratio)
-                k2 = _carry_lines(c2, other, cbox, tol)
+                k2 = _carry_lines(c2, other, cbox, tol, cand.anchors)
                 cost = _carry_cost(c2, k2, pbox, tol)
                 if cost[0] < best[0] or (cost[0] == best[0] and cost[1] < best[1] - tol):
                     face, con, carry, best = other, c2, k2, cost
