@@ -26,11 +26,11 @@ What a tutorial contains, in order
    ``vanishing``, :func:`h2s_print.constructions.align`) then carry the resulting line across,
    in the plane of the anchored end, to the child's end face: along the line itself when the
    child touches the face's plane, otherwise along the face normal from the result line's end
-   nearest the child (and, if needed, across to the child).  Such a carry turns on a plane of
-   the child an anchor places: its near face if one does, else its anchored middle (two
-   centring lines then meet on the parts' common bisector planes, the paper's roller), else
-   its anchored far face; only a turn on a plane no anchor places, or on no line of the
-   paper, is said "(by eye)".  An anchor on a parent that is
+   nearest the child (and, if needed, across to the child).  Such a carry turns at the
+   child's near face, or, where no anchor places that face but one centres the child, on
+   its middle (two centring lines then meet on the parts' common bisector planes, the
+   paper's roller); a turn on a plane no anchor places, or on no line of the paper, is
+   said "(by eye)".  An anchor on a parent that is
    flat along the anchored axis (``face_normal == axis``) needs no construction: the text says
    "in the plane of ..." and no guide is drawn.  A frustum parent's box faces are not drawn
    (its scaffold is the tapered solid), so a construction on it first draws the box around it

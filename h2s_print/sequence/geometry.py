@@ -272,16 +272,15 @@ def _turn_plane(anchors: Sequence[Any], child: Box, n: int, near: str) -> float:
     """Where along axis ``n`` a carry toward the child turns: on a plane of the child one of
     its ``anchors`` places, so that the turn lies where a construction crosses (read-throughs
     found "Carry FG ... to Q (by eye)" where Q was on no line).  The near face (``near``:
-    ``lo`` or ``hi``) if an anchor places it, else the anchored middle (two parts' centring
-    lines then meet on their common bisector planes, as in the paper's roller), else the
-    anchored far face; with none, the near face (judged by eye)."""
+    ``lo`` or ``hi``), else the anchored middle, where the part's centring lines meet on
+    their common bisector planes (the paper's roller).  Not the anchored far face: its
+    line is often carried a step later, and a corner judged there first then had to meet
+    it exactly (a read-through of the train's chimney, stop 32)."""
     ends = {a.end for a in anchors if a.axis == n}
     side = 0 if near == "lo" else 1
-    if near in ends or not ends:
-        return child[side][n]
-    if "mid" in ends:
+    if near not in ends and "mid" in ends:
         return 0.5 * (child[0][n] + child[1][n])
-    return child[1 - side][n]
+    return child[side][n]
 
 
 def _carry_lines(con: Any, face: Face, child: Box, tol: float,
