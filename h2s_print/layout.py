@@ -1311,6 +1311,16 @@ def primer_diagrams() -> tuple[PrimerDiagram, ...]:
     return tuple(out)
 
 
+def _compares_sizes(plan: ViewPlan) -> bool:
+    """Does a sub-step of ``plan`` compare a size with a part drawn before ("Make its width
+    about three quarters of the engine's": ``steps.yaml``'s ``substep.size*``)?"""
+    pattern = re.compile("|".join(
+        re.sub(r"\\\{[a-z_0-9]+\\\}", ".+",
+               re.escape(templates.lookup("steps", f"substep.{k}")))
+        for k in ("size", "size_many", "size_round")))
+    return any(pattern.search(x) for st in plan.steps for x in st.substeps)
+
+
 def _primer_intro(plan: ViewPlan) -> str:
     """The primer's introduction for ``plan``'s view: what "away from" a vanishing point
     means, and, where upright edges run toward a vanishing point of their own (a view from
@@ -1318,10 +1328,15 @@ def _primer_intro(plan: ViewPlan) -> str:
     views met "toward the vanishing point below" and "away from" nowhere explained); where
     step 1's picture names the first box's faces (labels of kind ``face``), that it does, and
     which way a width, a depth and a height run (a read-through could not tell which edge of
-    the mixer's base was its width)."""
+    the mixer's base was its width); where a step compares a size with another part's, that
+    it compares the real parts, not lengths on the paper (a read-through measured the train's
+    wagon, "about three quarters of the engine's", with a ruler on the page, where the nearer
+    wagon is drawn longer than the engine)."""
     text = _t("primer.intro") + " " + _t("primer.away")
     if any(lb.kind == "face" for st in plan.steps for lb in st.labels):
         text += " " + _t("primer.sides")
+    if _compares_sizes(plan):
+        text += " " + _t("primer.sizes")
     centre = (plan.camera.paper_mm[0] / 2.0, plan.camera.paper_mm[1] / 2.0)
     up = next((side for vp in plan.vanishing_points if vp.axis == 2
                and (side := vp_side(vp, centre)) is not None), None)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -1266,6 +1267,31 @@ def test_crossings_many_is_the_definition_pair_by_pair():
         assert L._crossings_many(segs, boxes).tolist() == want, trial
         touching += sum(want)
     assert touching > 100  # the cases do meet
+
+
+def test_the_primer_says_sizes_compare_the_real_parts_where_a_step_compares_one(examples):
+    """Where a sub-step compares a size with another part's ("Make its width about three
+    quarters of the engine's"), the primer says the comparison is of the real parts, not of
+    lengths on the paper (a read-through measured the train's nearer wagon against the engine
+    with a ruler); a workbook without such a sub-step does not get the sentence.  The
+    comparisons are found here by their words, the step's "Make its ... about ...'s"."""
+    from h2s_print import templates
+    from h2s_print.layout import lay_out_workbook
+
+    first = " ".join(templates.text("pages", "primer.sizes").split()[:4])
+    said = {True: 0, False: 0}
+    for name, (t, plan, views) in examples.items():
+        for view in t.views:
+            for level in ("novice", "master"):
+                vp = views[(view.name, level)]
+                compares = any(re.match(r"Make its [a-z ,]+ about .+'s", x)
+                               for st in vp.steps for x in st.substeps)
+                primer = lay_out_workbook(t.title, vp, t.paper, view_label=view.name)[1]
+                text = " ".join(" ".join(it.string for it in primer.items
+                                         if getattr(it, "role", "") == "intro").split())
+                assert (first in text) == compares, (name, view.name, level)
+                said[compares] += 1
+    assert said[True] and said[False], said
 
 
 def test_the_primer_explains_away_from_and_upright_vanishing_points(examples):
