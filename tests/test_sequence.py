@@ -2894,6 +2894,10 @@ def test_a_carry_says_what_each_of_its_lines_places(examples, shared_models):
                 chunks = x.split(" for its ")
                 pairs = []  # (lines, sides said after them)
                 lines = re.findall(token, chunks[0])
+                # "Extend GF to NP, meeting it at R; from R, draw RS ...": RS places
+                crossing = re.search(r"; from [A-Z]'*, draw (" + token + ")", chunks[0])
+                if crossing:
+                    lines = [crossing.group(1)]
                 for c in chunks[1:]:
                     nxt = re.search(r",? (?:and )?(" + token + r")(?: |$)", c)
                     head = c[:nxt.start()] if nxt and len(chunks) > 2 else c
@@ -3276,3 +3280,76 @@ def test_the_paper_corners_place_the_first_box_only_where_no_footprint_is_printe
     lines = _first_lines(vp.steps[0].strokes, vp.camera)
     keys = [s.key for s in _first_specs(lines)]
     assert lines is not None and keys[0] == "first_footprint" and "first_corners" not in keys
+
+
+def test_a_line_carried_from_a_crossing_is_constructed_exactly(examples):
+    """"Extend GF to NP, meeting it at R; from R, draw RS toward the left vanishing point,
+    meeting QS at S, for its top." (the roller's handle, where "Carry NP ... to R (by eye)"
+    was): in 3D, R lies on the line GF and on the segment NP, RS runs along one model axis
+    (toward the vanishing point said), S lies on the segment QS, and S is on the part's
+    plane said (its top): every point found by crossing lines already drawn."""
+    from h2s_print.templates import lookup
+
+    phrases = {v for k in ("vp", "vp_away") for v in lookup("steps", k).values() if "{" not in v}
+    pattern = re.compile(r"Extend ([A-Z]'*[A-Z]'*) to ([A-Z]'*[A-Z]'*), meeting it at ([A-Z]'*);"
+                         r" from \3, draw (\3([A-Z]'*)) (.+?), meeting ([A-Z]'*[A-Z]'*) at "
+                         r"\5, for its (.+)\.")
+    found = 0
+    for name, t, plan, vp in _all_views(examples):
+        if vp.level != "novice":
+            continue
+        chosen = plan.chosen()
+        for s in vp.steps:
+            at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
+            for x in s.substeps:
+                m = pattern.fullmatch(x.split(". ", 1)[-1] if x[:1].isdigit() else x)
+                if not m:
+                    continue
+                box = np.asarray(chosen[s.part].box, float)
+                tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+                pts = lambda ln: [at[p] for p in re.findall(r"[A-Z]'*", ln)]  # noqa: E731
+                g, f = pts(m.group(1))
+                n_, p_ = pts(m.group(2))
+                r, e = at[m.group(3)], at[m.group(5)]
+                q, s_end = pts(m.group(7))
+                assert _on_line3(r, g, f, tol) and _on_segment(r, n_, p_, tol), (name, x)
+                assert _on_segment(e, q, s_end, tol), (name, x)
+                d = np.abs(e - r)
+                axis = int(np.argmax(d))
+                assert d.sum() - d[axis] <= tol, (name, x)  # along one axis
+                assert m.group(6) in phrases, (name, x)
+                side = m.group(8)
+                if side == "top":
+                    assert abs(e[2] - box[1][2]) <= tol, (name, x)
+                found += 1
+    assert found >= 2
+
+
+def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
+    """"Carry FG toward the left vanishing point and LM toward the right vanishing point
+    until they cross at N": the point N is where both carried lines go, each from an end of
+    its line straight along one model axis (checked in 3D on the lettered points: N differs
+    from an end of FG in one coordinate only, and from an end of LM in one other), so the
+    reader stops at a crossing, not "as pictured" (the bottle's neck, the roller's handle)."""
+    cases = _novice_cases(examples, ("bottle_3763",))
+    checked = 0
+    for name, t, plan, view, vp in cases:
+        for s in vp.steps:
+            at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
+            for x in s.substeps:
+                m = re.search(r"Carry ([A-Z]'*)([A-Z]'*) .+? and ([A-Z]'*)([A-Z]'*) .+? until "
+                              r"they cross at ([A-Z]'*)", x)
+                if not m:
+                    continue
+                box = np.asarray(plan.chosen()[s.part].box, float)
+                tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+                cross = at[m.group(5)]
+                axes = []
+                for a, b in ((m.group(1), m.group(2)), (m.group(3), m.group(4))):
+                    moves = [np.flatnonzero(np.abs(cross - at[p]) > tol) for p in (a, b)]
+                    one = [mv for mv in moves if len(mv) == 1]
+                    assert one, (name, view.name, s.index, x)
+                    axes.append(int(one[0][0]))
+                assert axes[0] != axes[1], (name, view.name, s.index, x)
+                checked += 1
+    assert checked >= 3

@@ -72,6 +72,7 @@ from .geometry import (
     _anchor_lines,
     _box_corners,
     _contour_strokes,
+    _crossing_carry,
     _drawn_box,
     _extent,
     _floor_corner,
@@ -1025,7 +1026,23 @@ class _Context(_Repeats, _Ellipses):
         carry_lines: list[_Line] = []
         carried_anchors: list[Any] = []  # the anchors whose lines are carried to the part
         run_for: list[tuple[Vec3, Vec3, Any]] = []  # each carried line and an anchor it places
-        for anchor, ppart, face, con, own, carry in built:
+        # a line that would turn by eye, crossed in its face's plane by a centring line of the
+        # part: carried from that crossing to the centre line's carried leg instead (the
+        # roller's handle's top: "Extend GF to NP, meeting it at U; from U, draw US toward the
+        # left vanishing point, meeting QS at S", where "to R (by eye)" was)
+        crossings: dict[int, tuple[Any, ...]] = {}
+        for k, (anchor, _, face, con, _, carry) in enumerate(built):
+            if anchor.end == "mid" or len(carry) != 2:
+                continue
+            for m_anchor, _, m_face, m_con, _, m_carry in built:
+                if m_anchor.end != "mid" or m_anchor.parent != anchor.parent:
+                    continue
+                got = _crossing_carry(con, face, carry, m_con, m_face, m_carry, 10.0 * self.tol)
+                if got is not None:
+                    crossings[k] = (*got, m_con, m_carry)
+                    break
+        crossed: list[Spec] = []
+        for k, (anchor, ppart, face, con, own, carry) in enumerate(built):
             unit = units.setdefault((anchor.parent, face.normal, face.end,
                                      points_key((con.result.start, con.result.end), self.tol)),
                                     _Unit(ppart))
@@ -1073,7 +1090,22 @@ class _Context(_Repeats, _Ellipses):
                 unit.room = unit.room or entry_for(anchor.ratio).needs_room
                 unit.results.append((a, b))
             unit.lines += own
-            if carry:
+            if carry and k in crossings:
+                ext, run, at, end, m_con, m_carry = crossings[k]
+                carried_anchors.append(anchor)
+                carry_lines += [ln for ln in (ext, run) if ln is not None]
+                near = m_con.result.start if ext is None else ext.start
+                far = (m_con.result.end if _same_segment(near, near, m_con.result.start,
+                                                         m_con.result.start, self.tol)
+                       else m_con.result.start)
+                leg = m_carry[1]
+                crossed.append(spec(
+                    "cross_on_for" if ext is None else "cross_carry_for", part=name,
+                    line=Pts((far, near)), other=Pts((con.result.start, con.result.end)),
+                    point=Pts((at,)), line2=Pts((at, end)), vp=words.vp(face.normal, at, end),
+                    other2=Pts((leg.start, leg.end)), point2=Pts((end,)),
+                    sides=self.anchor_side(anchor)))
+            elif carry:
                 carried_anchors.append(anchor)
                 run_for.append((a, b, anchor))
                 carry_lines += carry
@@ -1155,8 +1187,18 @@ class _Context(_Repeats, _Ellipses):
 
         if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
             (a0, _, r0), (a1, _, r1) = carries  # two directions: one sentence
-            carrying = [moving("carry_two", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
-                               lines2=Many(tuple(r1)), vp2=words.vp(a1, *legs[a1, None][0]))]
+            e0, e1 = legs[a0, None][0][1], legs[a1, None][0][1]
+            if len(r0) == len(r1) == 1 and _same_segment(e0, e0, e1, e1, 10.0 * self.tol):
+                # both end where they cross (a part centred both ways on the face it stands
+                # on: the bottle's neck), a point, not "as pictured"
+                carrying = [moving("carry_two_meet", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
+                                   lines2=Many(tuple(r1)),
+                                   vp2=words.vp(a1, *legs[a1, None][0]),
+                                   turns=Many((Pts((e0,)),)))]
+            else:
+                carrying = [moving("carry_two", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
+                                   lines2=Many(tuple(r1)),
+                                   vp2=words.vp(a1, *legs[a1, None][0]))]
         else:
             # two lines carried from two sides to one turn, where they cross (the roller's
             # handle: its two centring lines meet on the roller's common bisector planes):
@@ -1194,6 +1236,7 @@ class _Context(_Repeats, _Ellipses):
                         turns=Many(tuple(corners[axis, turn]))))
         if extended:
             carrying.append(moving("extend_to", extended))
+        carrying += crossed  # after the carries: the centre line they meet is drawn first
         carry_units: list[_Unit] = []
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             owner = self.by_id[cand.anchors[0].parent].part

@@ -204,8 +204,11 @@ def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
         for u in g:
             for x in u.specs:
                 if x.key in _CARRIES:
+                    # (a line carried from a crossing on it is its ``other``: "Extend GF to
+                    # NP, meeting it at R; from R, draw RS ...")
+                    carried = ("other",) if x.key.startswith("cross_") else ("lines", "lines2")
                     for name, v in x.fields:
-                        if name in ("lines", "lines2"):
+                        if name in carried:
                             for run in line_runs(v):
                                 out.update((tuple(run.points), tuple(run.points)[::-1]))
     return out
@@ -214,7 +217,8 @@ def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
 #: Sub-steps that carry lines to the part (the carry unit's).
 _CARRIES = ("carry", "carry_two", "carry_turn", "carry_turn_eye", "extend_to", "carry_for",
             "carry_two_for", "carry_turn_for", "carry_turn_eye_for", "extend_to_for",
-            "carry_meet", "carry_meet_for")
+            "carry_meet", "carry_meet_for", "carry_two_meet", "carry_two_meet_for", "cross_carry", "cross_carry_for", "cross_on",
+            "cross_on_for")
 
 
 def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:

@@ -323,6 +323,46 @@ def _carry_lines(con: Any, face: Face, child: Box, tol: float,
     return out
 
 
+def _crossing_carry(con: Any, face: Face, carry: Sequence[_Line], mid_con: Any,
+                    mid_face: Face, mid_carry: Sequence[_Line], tol: float
+                    ) -> tuple[_Line | None, _Line, Vec3, Vec3] | None:
+    """A constructed carry for a line that would turn by eye (the roller's handle's top,
+    read-throughs of stop 32): where the part is also centred across the face's other axis by
+    a line in the same face plane (``mid_con``, carried off the face and then along the first
+    line's axis: the handle's vertical centre line QS), the first line's result (NP) is
+    crossed by that centring line (FG, extended to it when short) at ``U``; from ``U`` a
+    line along the face's normal meets the centre line's carried leg at ``V`` (S), a point
+    of the part's plane the first line places.  Returned: the extension (or None), the line
+    ``U``-``V``, ``U`` and ``V``; None where the geometry is not that."""
+    if len(carry) != 2 or len(mid_carry) != 2:
+        return None
+    a, n = con.axis, face.normal
+    o = 3 - a - n
+    if (mid_con.axis != o or mid_face.normal != n or abs(mid_face.coord - face.coord) > tol
+            or _moving_axis(carry[0]) != n or _moving_axis(carry[1]) != o
+            or _moving_axis(mid_carry[0]) != n or _moving_axis(mid_carry[1]) != a):
+        return None
+    u = [0.0, 0.0, 0.0]
+    u[a], u[n], u[o] = con.coord, face.coord, mid_con.coord
+    v = list(u)
+    v[n] = carry[0].end[n]  # the plane the first line's carry turned on
+    U, V = (u[0], u[1], u[2]), (v[0], v[1], v[2])
+    res, mres = con.result, mid_con.result
+    leg = mid_carry[1]  # the centre line's leg along a: V lies on it, or it ends there
+    if not (_on_segment(U, res.start, res.end, tol)
+            and _on_line(V, leg.start, leg.end, tol)
+            and (_on_segment(V, leg.start, leg.end, tol) or min(
+                math.dist(V, leg.start), math.dist(V, leg.end)) <= tol)
+            and max(abs(U[k] - V[k]) for k in range(3)) > tol):
+        return None
+    if _on_segment(U, mres.start, mres.end, tol):
+        ext = None
+    else:
+        near = min((mres.start, mres.end), key=lambda p: math.dist(p, U))
+        ext = _Line("vanishing", near, U)
+    return ext, _Line("vanishing", U, V), U, V
+
+
 def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[int, float]:
     """What ``carry`` costs the reader: its legs along an edge of the parent's box first
     (they draw nothing new: "Carry ST toward the left vanishing point" along the seat's own
