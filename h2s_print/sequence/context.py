@@ -1393,8 +1393,10 @@ class _Context(_Repeats, _Ellipses):
 
     def along_edge(self, s: Spec, drawn: Sequence[str]) -> Spec:
         """``s``, said "along the base's edge" when most of the line it draws lies on a
-        scaffold edge of a part drawn before, on the sheet (:data:`ALONG_MM`; the
-        read-through saw nothing new where an orange line lay on a grey edge)."""
+        visible scaffold edge of a part drawn before, on the sheet (:data:`ALONG_MM`; the
+        read-through saw nothing new where an orange line lay on a grey edge).  Not a hidden
+        edge: the line then only crosses behind it on the paper, and a read-through of stop
+        32 looked for the roller's handle's edge along a centre line."""
         if s.key not in ("from", "through", "cross"):
             return s
         f = dict(s.fields)
@@ -1408,7 +1410,8 @@ class _Context(_Repeats, _Ellipses):
                 prim = self.plan.primitive(part)
                 self._edges[part] = [
                     (np.asarray(st.points_mm[0], dtype=float), np.asarray(st.points_mm[-1], dtype=float))
-                    for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+                    for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)
+                    if st.kind == "scaffold"]
             if any(_mostly_on(a, b, p, q, ALONG_MM) for p, q in self._edges[part]):
                 return spec(f"{s.key}_along", s.same, s.pair, part=self.say(part), **f)
         return s
