@@ -1041,7 +1041,7 @@ class _Context(_Repeats, _Ellipses):
                 if got is not None:
                     crossings[k] = (*got, m_con, m_carry)
                     break
-        crossed: list[Spec] = []
+        crossed: list[tuple[Spec, list[_Line], Any]] = []  # (sentence, its lines, anchor)
         for k, (anchor, ppart, face, con, own, carry) in enumerate(built):
             unit = units.setdefault((anchor.parent, face.normal, face.end,
                                      points_key((con.result.start, con.result.end), self.tol)),
@@ -1099,12 +1099,13 @@ class _Context(_Repeats, _Ellipses):
                                                          m_con.result.start, self.tol)
                        else m_con.result.start)
                 leg = m_carry[1]
-                crossed.append(spec(
+                crossed.append((spec(
                     "cross_on_for" if ext is None else "cross_carry_for", part=name,
                     line=Pts((far, near)), other=Pts((con.result.start, con.result.end)),
                     point=Pts((at,)), line2=Pts((at, end)), vp=words.vp(face.normal, at, end),
                     other2=Pts((leg.start, leg.end)), point2=Pts((end,)),
-                    sides=self.anchor_side(anchor)))
+                    sides=self.anchor_side(anchor)),
+                    [ln for ln in (ext, run) if ln is not None], anchor))
             elif carry:
                 carried_anchors.append(anchor)
                 run_for.append((a, b, anchor))
@@ -1199,6 +1200,7 @@ class _Context(_Repeats, _Ellipses):
                 carrying = [moving("carry_two", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
                                    lines2=Many(tuple(r1)),
                                    vp2=words.vp(a1, *legs[a1, None][0]))]
+            pieces = [[(a0, None), (a1, None)]]
         else:
             # two lines carried from two sides to one turn, where they cross (the roller's
             # handle: its two centring lines meet on the roller's common bisector planes):
@@ -1215,13 +1217,16 @@ class _Context(_Repeats, _Ellipses):
                                               10.0 * self.tol)):
                         meet[ax0, t0], meet[ax1, t1] = (ax1, t1), (ax0, t0)
             carrying = []
+            pieces = []  # per sentence, the carries (first axis, turn) it says
             for axis, turn, runs in carries:
                 if turn is None:
                     carrying.append(moving("carry", runs, vp=words.vp(axis, *legs[axis, turn][0])))
+                    pieces.append([(axis, turn)])
                 elif (axis, turn) in meet:
                     other = meet[axis, turn]
                     if other < (axis, turn):
                         continue  # said with the other
+                    pieces.append([(axis, turn), other])
                     r1 = carried[other]
                     carrying.append(moving(
                         "carry_meet", runs, r1, vp=words.vp(axis, *legs[axis, turn][0]),
@@ -1229,6 +1234,7 @@ class _Context(_Repeats, _Ellipses):
                         vp3=words.vp(turn, *legs[axis, turn][-1]),
                         turns=Many(tuple(corners[axis, turn]))))
                 else:
+                    pieces.append([(axis, turn)])
                     carrying.append(moving(
                         "carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
                         runs, vp=words.vp(axis, *legs[axis, turn][0]),
@@ -1236,7 +1242,11 @@ class _Context(_Repeats, _Ellipses):
                         turns=Many(tuple(corners[axis, turn]))))
         if extended:
             carrying.append(moving("extend_to", extended))
-        carrying += crossed  # after the carries: the centre line they meet is drawn first
+        # each sentence's lines and the anchors they place
+        said_by = [([ln for g in keys for ln in by_group[g][0]],
+                    [a for g in keys for a in by_group[g][1]]) for keys in pieces]
+        carrying += [x for x, _, _ in crossed]  # after the carries: the line they meet first
+        said_by += [(lines, [anchor]) for _, lines, anchor in crossed]
         carry_units: list[_Unit] = []
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             owner = self.by_id[cand.anchors[0].parent].part
@@ -1244,13 +1254,12 @@ class _Context(_Repeats, _Ellipses):
             # a carry sentence each, each a unit, when all of them are too long for one
             # step (a guides step over the word limit cannot be cut: the train's chimney
             # carried three lines around corners in 71 words)
-            if (len(carrying) > 1 and not extended and len(carries) == len(carrying)
+            if (len(carrying) > 1 and not extended
                     and self.step_words(carrying, _guides_of(9, 9, part=name,
                                                              the_parents=_the(self.say(owner))))
                     > MAX_STEP_WORDS):
-                carry_units = [_Unit(owner, [x], by_group[axis, turn][0],
-                                     carried_for=by_group[axis, turn][1])
-                               for x, (axis, turn, _) in zip(carrying, carries)]
+                carry_units = [_Unit(owner, [x], lines, carried_for=anchors)
+                               for x, (lines, anchors) in zip(carrying, said_by)]
             for k, u in enumerate(carry_units):
                 units[("carry", k)] = u
         if floor is not None:
