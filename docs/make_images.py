@@ -75,6 +75,7 @@ def main() -> None:
     }
     wanted["page-step-spacing"] = _spacing_page()
     wanted["page-step-bowl"], wanted["page-step-close-up"] = _round_pages()
+    wanted["page-step-crossing"] = _crossing_page()
     wanted["page-cyrillic"] = _cyrillic_page()
     cjk = _cjk_page()
     if cjk is not None:
@@ -119,6 +120,20 @@ def _spacing_page():
              if p.kind == "steps"]
     last = max(k for k, st in enumerate(vp.steps) if st.kind == "primitive")
     return pages[last]  # knobs 3 and 4, spaced like knobs 1 and 2
+
+
+def _crossing_page():
+    """The roller's handle's guides (front-left, novice): its two centring lines carried until
+    they cross on the roller's common bisector planes, and its top carried from where one of
+    them crosses the line that places it ("Extend GF to NP, meeting it at R; ...")."""
+    tutorial = load_tutorial(ROOT / "configs" / "roller.yaml")
+    result = plan_tutorial(tutorial)
+    view = next(v for v in result.views if v.name == "front-left" and v.level == "novice")
+    pages = [p for p in lay_out_workbook(tutorial.title, view, tutorial.paper,
+                                         view_label=view.name) if p.kind == "steps"]
+    return next(pg for pg, st in zip(pages, view.steps)
+                if any("until they cross at" in x for x in st.substeps)
+                and any("meeting it at" in x for x in st.substeps))
 
 
 def _round_pages():
