@@ -1596,7 +1596,10 @@ def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
                     lines = re.findall(LINE, s.split(" to ")[0])
                     if s.startswith(carry) and "," in s:
                         # each run of lines goes the way of the direction named after it
-                        # ("Carry FG to ..., toward the left ..., and LM, toward the right ...")
+                        # ("Carry FG to ..., toward the left ..., and LM, toward the right ...");
+                        # a line drawn on from where carried lines cross ("..., then draw QR
+                        # vertically") is not carried
+                        s = s.split(", then draw ")[0]
                         found = sorted((s.index(phrase), phrase, a) for phrase, a in vps.items()
                                        if phrase in s)
                         start = 0
@@ -2085,7 +2088,7 @@ def test_a_carry_turns_by_eye_exactly_where_no_anchor_places_the_turn(examples):
     eye = lookup("steps", "substep.carry_turn_eye")
     mark = eye[eye.index("{turns}") + len("{turns}"):eye.index(", then")]  # " (by eye)"
     pattern = re.compile(r"Carry .*? (?:to|until they cross at) ((?:[A-Z]'*(?:, | and )?)+)("
-                         + re.escape(mark) + r")?, then")
+                         + re.escape(mark) + r")?(?: on .+? face)?, then")
     counts = {True: 0, False: 0}
     met = 0
     anchored_by_eye = 0
@@ -3332,7 +3335,7 @@ def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
     from an end of FG in one coordinate only, and from an end of LM in one other), so the
     reader stops at a crossing, not "as pictured" (the bottle's neck, the roller's handle)."""
     cases = _novice_cases(examples, ("bottle_3763",))
-    checked = 0
+    checked = faces = 0
     for name, t, plan, view, vp in cases:
         for s in vp.steps:
             at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
@@ -3351,5 +3354,16 @@ def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
                     assert one, (name, view.name, s.index, x)
                     axes.append(int(one[0][0]))
                 assert axes[0] != axes[1], (name, view.name, s.index, x)
+                # "... until they cross at Q on the roller's bottom face": Q is on that face
+                on = re.search(r"until they cross at [A-Z]'* on the (.+?)'s (top|bottom|front|"
+                               r"back) face", x)
+                if on:
+                    pbox = np.asarray(plan.chosen()[on.group(1).replace(" ", "_")].box, float)
+                    ax, k = {"top": (2, 1), "bottom": (2, 0), "front": (1, 0),
+                             "back": (1, 1)}[on.group(2)]
+                    assert abs(cross[ax] - pbox[k][ax]) <= tol, (name, view.name, x)
+                    assert all(pbox[0][b] - tol <= cross[b] <= pbox[1][b] + tol
+                               for b in range(3)), (name, view.name, x)
+                    faces += 1
                 checked += 1
-    assert checked >= 3
+    assert checked >= 3 and faces >= 1

@@ -1228,11 +1228,28 @@ class _Context(_Repeats, _Ellipses):
                         continue  # said with the other
                     pieces.append([(axis, turn), other])
                     r1 = carried[other]
-                    carrying.append(moving(
-                        "carry_meet", runs, r1, vp=words.vp(axis, *legs[axis, turn][0]),
+                    # which face of the parent they cross on (from both ends of a line on
+                    # its faces they would cross on two: a read-through took the top one),
+                    # and the line on from the crossing, named ("then vertically" stopped at
+                    # a point said only later)
+                    q = corners[axis, turn][0].points[0]
+                    k = 3 - axis - other[0]  # both first legs run on a face across k
+                    parent = self.by_id[by_group[axis, turn][1][0].parent]
+                    lo, hi = parent.box
+                    end = ("lo" if abs(q[k] - lo[k]) <= 10.0 * self.tol
+                           else "hi" if abs(q[k] - hi[k]) <= 10.0 * self.tol else None)
+                    inside = all(lo[b] - 10.0 * self.tol <= q[b] <= hi[b] + 10.0 * self.tol
+                                 for b in (axis, other[0]))
+                    on = ({"the_parent": _the(self.say(parent.part)),
+                           "face": words.face(k, end)} if end is not None and inside else {})
+                    # (what they place, the part's middles, its centring sentences say)
+                    carrying.append(_unsaid(moving(
+                        "carry_meet_on" if on else "carry_meet", runs, r1,
+                        vp=words.vp(axis, *legs[axis, turn][0]),
                         lines2=Many(tuple(r1)), vp2=words.vp(other[0], *legs[other][0]),
                         vp3=words.vp(turn, *legs[axis, turn][-1]),
-                        turns=Many(tuple(corners[axis, turn]))))
+                        turns=Many(tuple(corners[axis, turn])),
+                        line=Pts(legs[axis, turn][-1]), **on)))
                 else:
                     pieces.append([(axis, turn)])
                     carrying.append(moving(
