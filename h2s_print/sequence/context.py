@@ -833,6 +833,20 @@ class _Context(_Repeats, _Ellipses):
                     out[j] = spec("centred_carried" if carried else "centred_extended",
                                   s.same, s.pair, step=n, **f)
                     drop[n] = drop.get(n, 0) + 1
+        # a second centring on a line the first said carried: carried too, and said with it
+        # (centred_together)
+        for j, s in enumerate(out):
+            if s.key != "centred" or not isinstance(dict(s.fields)["line"], Pts):
+                continue
+            f = dict(s.fields)
+            first = next((x for x in out[:j] if x.key in ("centred_carried", "centred_extended")
+                          and isinstance(dict(x.fields)["line"], Pts)
+                          and _same_segment(*dict(x.fields)["line"].points,
+                                            *f["line"].points, self.tol)), None)
+            if first is not None and len(f["line"].points) == 2:
+                n = dict(first.fields)["step"]
+                out[j] = spec(first.key, s.same, s.pair, step=n, **f)
+                drop[n] = drop.get(n, 0) + 1
         # "Use the lines carried in step 9." says no more than "Centre it on EN, carried in
         # step 9."; "... for its middle (front to back) and bottom." keeps its bottom
         kept: list[Spec] = []
@@ -850,7 +864,27 @@ class _Context(_Repeats, _Ellipses):
                 x = spec(x.key, x.same, x.pair, **{**xf, "sides": _join(each), "each": each,
                                                    "mids": ()})
             kept.append(x)
-        return kept
+        return self.centred_together(kept)
+
+    def centred_together(self, specs: Sequence[Spec]) -> list[Spec]:
+        """Two centrings on one line, one sentence: "Centre the handle left to right and
+        front to back on QR, carried in step 4." (a read-through: the same line in two
+        sentences read as two lines)."""
+        out: list[Spec] = []
+        for x in specs:
+            prev = out[-1] if out else None
+            if (prev is not None and x.key.startswith("centred") and prev.key == x.key):
+                pf, xf = dict(prev.fields), dict(x.fields)
+                if (isinstance(pf["line"], Pts) and isinstance(xf["line"], Pts)
+                        and len(pf["line"].points) == len(xf["line"].points) == 2
+                        and _same_segment(*pf["line"].points, *xf["line"].points, self.tol)
+                        and pf.get("step") == xf.get("step")
+                        and pf["directions"] != xf["directions"]):
+                    out[-1] = spec(x.key, prev.same, prev.pair, **{
+                        **pf, "directions": _join([pf["directions"], xf["directions"]])})
+                    continue
+            out.append(x)
+        return out
 
     def letter(self, drafts: Sequence[_Draft], roles: frozenset[str] = LEVEL_ROLES["novice"]
                ) -> list[_Draft]:
