@@ -1047,6 +1047,9 @@ _LABEL_LOOK: dict[str, tuple[str, str, str]] = {
 #: A label crossing one of the step's new (thick, coloured) lines counts as crossing this
 #: many drawn lines (:func:`place_labels`).
 NEW_LINE_WEIGHT = 3
+#: A corner of a drawn line within this of a label's own dot is the dot's own point (page mm);
+#: a place for the letter nearer any other corner than its dot counts one line more.
+CORNER_OWN_MM = 0.3
 
 
 def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
@@ -1058,7 +1061,8 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
     label's dot, every label stays inside the picture, each label is nearer its own dot than any other dot when
     possible, and then as few drawn lines as possible cross it (one of the step's new lines
     counting :data:`NEW_LINE_WEIGHT`), each ring further from the dot counting as one line
-    crossed (then the preferred direction).
+    crossed, and so does a place nearer a corner of a straight line than the dot (then the
+    preferred direction).
 
     ``segs`` and ``new``: the segments of ``items``' lines and of the step's new lines
     (``stroke_new``), when the caller has them already (:func:`_segments`).
@@ -1074,6 +1078,12 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
         new = _segments([it for it in items
                          if isinstance(it, Polyline) and it.role == "stroke_new"])
     dots = [view.map(lb.at_mm) for lb in labels]
+    # the corners of the drawing's straight lines (a box's edges, guides): a letter nearer
+    # one of them than its own dot reads as that corner's (a read-through put the roller's
+    # handle's top corner at S, whose dot was the top face's centre)
+    ends = [p for it in items if isinstance(it, Polyline) and len(it.points_mm) == 2
+            for p in it.points_mm]
+    corners = np.unique(np.round(np.asarray(ends, dtype=float).reshape(-1, 2), 3), axis=0)
     x0, y0, x1, y1 = view.rect
     taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
                           dy + LABEL_DOT_MM) if lb.kind == "point" else (dx, dy, dx, dy)
@@ -1119,15 +1129,21 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
                 ambiguous = any(math.hypot(mx - ox, my - oy) < own
                                 for j, (ox, oy) in enumerate(dots)
                                 if j != k and labels[j].kind == "point")
-                free.append((di, bx0, by0, box, ambiguous, crowded))
+                cornered = False
+                if not part and len(corners):
+                    near = np.hypot(corners[:, 0] - mx, corners[:, 1] - my) < own
+                    mine = np.hypot(corners[:, 0] - dx, corners[:, 1] - dy) <= CORNER_OWN_MM
+                    cornered = bool((near & ~mine).any())
+                free.append((di, bx0, by0, box, ambiguous, crowded, cornered))
             crossed = _crossings_many(segs, [f[3] for f in free])
             if len(new):  # the box grown by the thick line's half width: touching counts
                 grow = STYLES["new"].width_mm / 2 + pad
                 crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
                     new, [(b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow)
                           for b in (f[3] for f in free)])
-            for (di, bx0, by0, _, ambiguous, crowded), n in zip(free, crossed.tolist()):
-                score = (ambiguous, crowded, n + ri, di)
+            for (di, bx0, by0, _, ambiguous, crowded, cornered), n in zip(free,
+                                                                         crossed.tolist()):
+                score = (ambiguous, crowded, n + ri + cornered, di)
                 if best is None or score < best[0]:
                     best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, font, "start",
                                         colour, role))
