@@ -1329,11 +1329,13 @@ def primer_diagrams() -> tuple[PrimerDiagram, ...]:
 
 def _compares_sizes(plan: ViewPlan) -> bool:
     """Does a sub-step of ``plan`` compare a size with a part drawn before ("Make its width
-    about three quarters of the engine's": ``steps.yaml``'s ``substep.size*``)?"""
+    about three quarters of the engine's") or with another of its own ("Make its height the
+    same as its depth", a read-through: a guess not said to be one): ``steps.yaml``'s
+    ``substep.size*``?"""
     pattern = re.compile("|".join(
         re.sub(r"\\\{[a-z_0-9]+\\\}", ".+",
                re.escape(templates.lookup("steps", f"substep.{k}")))
-        for k in ("size", "size_many", "size_round")))
+        for k in ("size", "size_many", "size_round", "size_same")))
     return any(pattern.search(x) for st in plan.steps for x in st.substeps)
 
 

@@ -1273,8 +1273,9 @@ def test_the_primer_says_sizes_compare_the_real_parts_where_a_step_compares_one(
     """Where a sub-step compares a size with another part's ("Make its width about three
     quarters of the engine's"), the primer says the comparison is of the real parts, not of
     lengths on the paper (a read-through measured the train's nearer wagon against the engine
-    with a ruler); a workbook without such a sub-step does not get the sentence.  The
-    comparisons are found here by their words, the step's "Make its ... about ...'s"."""
+    with a ruler), or with another of its own sizes ("the same as its depth"); a workbook
+    without such a sub-step does not get the sentence.  The comparisons are found here by
+    their words, the step's "Make its ... about ...'s" or "... the same as its ..."."""
     from h2s_print import templates
     from h2s_print.layout import lay_out_workbook
 
@@ -1284,7 +1285,7 @@ def test_the_primer_says_sizes_compare_the_real_parts_where_a_step_compares_one(
         for view in t.views:
             for level in ("novice", "master"):
                 vp = views[(view.name, level)]
-                compares = any(re.match(r"Make its [a-z ,]+ about .+'s", x)
+                compares = any(re.match(r"Make its [a-z ,]+ (?:about .+'s|the same as its)", x)
                                for st in vp.steps for x in st.substeps)
                 primer = lay_out_workbook(t.title, vp, t.paper, view_label=view.name)[1]
                 text = " ".join(" ".join(it.string for it in primer.items
