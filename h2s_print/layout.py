@@ -1098,13 +1098,19 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
         if not part:
             out.append(Circle(dx, dy, LABEL_DOT_MM, None, 0.0, "black", "label_point"))
         w = text_width_mm(lb.name, LABEL_PT, font)
+        # the corners a place for the letter may be nearer than its dot: not its own point,
+        # and only those within reach of the rings (a picture has hundreds)
+        reach = LABEL_RADII_FAR_MM[-1] + w + 2.0
+        others = np.zeros((0, 2)) if part or not len(corners) else corners[
+            (np.abs(corners[:, 0] - dx) <= reach) & (np.abs(corners[:, 1] - dy) <= reach)
+            & (np.hypot(corners[:, 0] - dx, corners[:, 1] - dy) > CORNER_OWN_MM)]
         cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
         best: tuple[tuple, Text] | None = None
         rings = ((0.0,) if part else ()) + LABEL_RADII_MM + LABEL_RADII_FAR_MM
         for ri, r in enumerate(rings):
             if best is not None and r in LABEL_RADII_FAR_MM:
                 break  # the far rings only when nothing nearer is free
-            free: list[tuple[int, float, float, Box2, bool, bool]] = []
+            free: list[tuple[int, float, float, Box2, bool, bool, float]] = []
             for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
                 norm = math.hypot(ux, uy) or 1.0
                 cx, cy = dx + r * ux / norm, dy + r * uy / norm
@@ -1129,21 +1135,20 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
                 ambiguous = any(math.hypot(mx - ox, my - oy) < own
                                 for j, (ox, oy) in enumerate(dots)
                                 if j != k and labels[j].kind == "point")
-                cornered = False
-                if not part and len(corners):
-                    near = np.hypot(corners[:, 0] - mx, corners[:, 1] - my) < own
-                    mine = np.hypot(corners[:, 0] - dx, corners[:, 1] - dy) <= CORNER_OWN_MM
-                    cornered = bool((near & ~mine).any())
-                free.append((di, bx0, by0, box, ambiguous, crowded, cornered))
+                free.append((di, bx0, by0, box, ambiguous, crowded, own))
             crossed = _crossings_many(segs, [f[3] for f in free])
+            if free and len(others):  # nearer another corner than the dot: one line more
+                at = np.array([((f[3][0] + f[3][2]) / 2, (f[3][1] + f[3][3]) / 2) for f in free])
+                gap = np.hypot(at[:, None, 0] - others[None, :, 0],
+                               at[:, None, 1] - others[None, :, 1]).min(axis=1)
+                crossed = crossed + (gap < np.array([f[6] for f in free]))
             if len(new):  # the box grown by the thick line's half width: touching counts
                 grow = STYLES["new"].width_mm / 2 + pad
                 crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
                     new, [(b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow)
                           for b in (f[3] for f in free)])
-            for (di, bx0, by0, _, ambiguous, crowded, cornered), n in zip(free,
-                                                                         crossed.tolist()):
-                score = (ambiguous, crowded, n + ri + cornered, di)
+            for (di, bx0, by0, _, ambiguous, crowded, _), n in zip(free, crossed.tolist()):
+                score = (ambiguous, crowded, n + ri, di)
                 if best is None or score < best[0]:
                     best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, font, "start",
                                         colour, role))
