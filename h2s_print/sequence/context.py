@@ -72,6 +72,7 @@ from .geometry import (
     _anchor_lines,
     _box_corners,
     _contour_strokes,
+    _Crossing,
     _crossing_carry,
     _drawn_box,
     _extent,
@@ -84,6 +85,7 @@ from .geometry import (
     _on_segment,
     _round,
     _runs_along,
+    _same_point,
     _same_segment,
     _scaffold,
     _sheet_length,
@@ -1064,7 +1066,7 @@ class _Context(_Repeats, _Ellipses):
         # part: carried from that crossing to the centre line's carried leg instead (the
         # roller's handle's top: "Extend GF to NP, meeting it at U; from U, draw US toward the
         # left vanishing point, meeting QS at S", where "to R (by eye)" was)
-        crossings: dict[int, tuple[Any, ...]] = {}
+        crossings: dict[int, _Crossing] = {}
         for k, (anchor, _, face, con, _, carry) in enumerate(built):
             if anchor.end == "mid" or len(carry) != 2:
                 continue
@@ -1073,7 +1075,7 @@ class _Context(_Repeats, _Ellipses):
                     continue
                 got = _crossing_carry(con, face, carry, m_con, m_face, m_carry, 10.0 * self.tol)
                 if got is not None:
-                    crossings[k] = (*got, m_con, m_carry)
+                    crossings[k] = got
                     break
         crossed: list[tuple[Spec, list[_Line], Any]] = []  # (sentence, its lines, anchor)
         for k, (anchor, ppart, face, con, own, carry) in enumerate(built):
@@ -1125,21 +1127,16 @@ class _Context(_Repeats, _Ellipses):
                 unit.results.append((a, b))
             unit.lines += own
             if carry and k in crossings:
-                ext, run, at, end, m_con, m_carry = crossings[k]
+                x = crossings[k]
                 carried_anchors.append(anchor)
-                carry_lines += [ln for ln in (ext, run) if ln is not None]
-                near = m_con.result.start if ext is None else ext.start
-                far = (m_con.result.end if _same_segment(near, near, m_con.result.start,
-                                                         m_con.result.start, self.tol)
-                       else m_con.result.start)
-                leg = m_carry[1]
+                carry_lines += x.lines
                 crossed.append((spec(
-                    "cross_on_for" if ext is None else "cross_carry_for", part=name,
-                    line=Pts((far, near)), other=Pts((con.result.start, con.result.end)),
-                    point=Pts((at,)), line2=Pts((at, end)), vp=words.vp(face.normal, at, end),
-                    other2=Pts((leg.start, leg.end)), point2=Pts((end,)),
-                    sides=self.anchor_side(anchor)),
-                    [ln for ln in (ext, run) if ln is not None], anchor))
+                    "cross_carry_for" if x.extended else "cross_on_for", part=name,
+                    line=Pts(x.centring), other=Pts((con.result.start, con.result.end)),
+                    point=Pts((x.at,)), line2=Pts((x.at, x.end)),
+                    vp=words.vp(face.normal, x.at, x.end), other2=Pts(x.leg),
+                    point2=Pts((x.end,)), sides=self.anchor_side(anchor)),
+                    list(x.lines), anchor))
             elif carry:
                 carried_anchors.append(anchor)
                 run_for.append((a, b, anchor))
@@ -1223,7 +1220,7 @@ class _Context(_Repeats, _Ellipses):
         if len(carries) == 2 and carries[0][1] is None and carries[1][1] is None:
             (a0, _, r0), (a1, _, r1) = carries  # two directions: one sentence
             e0, e1 = legs[a0, None][0][1], legs[a1, None][0][1]
-            if len(r0) == len(r1) == 1 and _same_segment(e0, e0, e1, e1, 10.0 * self.tol):
+            if len(r0) == len(r1) == 1 and _same_point(e0, e1, 10.0 * self.tol):
                 # both end where they cross (a part centred both ways on the face it stands
                 # on: the bottle's neck), a point, not "as pictured"
                 carrying = [moving("carry_two_meet", r0, r1, vp=words.vp(a0, *legs[a0, None][0]),
@@ -1246,9 +1243,8 @@ class _Context(_Repeats, _Ellipses):
                     if (t0 is not None and t0 == t1 and ax0 != ax1 and len(r0) == len(r1) == 1
                             and (ax0, t0) not in meet and (ax1, t1) not in meet
                             and (ax0, t0) not in by_eye_turns and (ax1, t1) not in by_eye_turns
-                            and _same_segment(*[corners[ax0, t0][0].points[0]] * 2,
-                                              *[corners[ax1, t1][0].points[0]] * 2,
-                                              10.0 * self.tol)):
+                            and _same_point(corners[ax0, t0][0].points[0],
+                                            corners[ax1, t1][0].points[0], 10.0 * self.tol)):
                         meet[ax0, t0], meet[ax1, t1] = (ax1, t1), (ax0, t0)
             carrying = []
             pieces = []  # per sentence, the carries (first axis, turn) it says
@@ -1496,7 +1492,7 @@ class _Context(_Repeats, _Ellipses):
                   if n < step and _same_segment(a, b, p, q, self.tol)]
             if at:
                 drawn_in[k], p = at[0]
-                if not _same_segment(a, a, p, p, self.tol):
+                if not _same_point(a, p, self.tol):
                     f[k] = Pts((b, a))
         if s.key not in _DRAWS:
             return spec(s.key, s.same, s.pair, **f) if drawn_in else s

@@ -64,14 +64,17 @@ def _map_points(points: np.ndarray, from_box: Box, to_box: Box) -> np.ndarray:
     return out
 
 
+def _same_point(x: Any, y: Any, tol: float) -> bool:
+    """True when 3D points ``x`` and ``y`` agree within ``tol`` per coordinate."""
+    return (abs(float(x[0]) - float(y[0])) <= tol and abs(float(x[1]) - float(y[1])) <= tol
+            and abs(float(x[2]) - float(y[2])) <= tol)
+
+
 def _same_segment(a: Any, b: Any, p: Any, q: Any, tol: float) -> bool:
     """True when segment ``a-b`` is segment ``p-q`` up to endpoint order, within ``tol``
     (per coordinate; plain floats: called some 10 000 times a view)."""
-    def near(x: Any, y: Any) -> bool:
-        return (abs(float(x[0]) - float(y[0])) <= tol and abs(float(x[1]) - float(y[1])) <= tol
-                and abs(float(x[2]) - float(y[2])) <= tol)
-
-    return (near(a, p) and near(b, q)) or (near(a, q) and near(b, p))
+    return ((_same_point(a, p, tol) and _same_point(b, q, tol))
+            or (_same_point(a, q, tol) and _same_point(b, p, tol)))
 
 
 def _tiny_loop(mm: np.ndarray) -> bool:
@@ -323,17 +326,27 @@ def _carry_lines(con: Any, face: Face, child: Box, tol: float,
     return out
 
 
+@dataclass(frozen=True, slots=True)
+class _Crossing:
+    """A line carried from where a centring line crosses it (:func:`_crossing_carry`)."""
+
+    lines: tuple[_Line, ...]  # the centring line's extension (when it falls short), U-V
+    extended: bool  # the centring line is extended to the crossing
+    centring: tuple[Vec3, Vec3]  # the centring line's ends, the one toward U last
+    at: Vec3  # U, the crossing
+    end: Vec3  # V, on the centring line's carried leg
+    leg: tuple[Vec3, Vec3]  # that leg
+
+
 def _crossing_carry(con: Any, face: Face, carry: Sequence[_Line], mid_con: Any,
-                    mid_face: Face, mid_carry: Sequence[_Line], tol: float
-                    ) -> tuple[_Line | None, _Line, Vec3, Vec3] | None:
+                    mid_face: Face, mid_carry: Sequence[_Line], tol: float) -> _Crossing | None:
     """A constructed carry for a line that would turn by eye (the roller's handle's top,
     read-throughs of stop 32): where the part is also centred across the face's other axis by
     a line in the same face plane (``mid_con``, carried off the face and then along the first
     line's axis: the handle's vertical centre line QS), the first line's result (NP) is
     crossed by that centring line (FG, extended to it when short) at ``U``; from ``U`` a
     line along the face's normal meets the centre line's carried leg at ``V`` (S), a point
-    of the part's plane the first line places.  Returned: the extension (or None), the line
-    ``U``-``V``, ``U`` and ``V``; None where the geometry is not that."""
+    of the part's plane the first line places.  None where the geometry is not that."""
     if len(carry) != 2 or len(mid_carry) != 2:
         return None
     a, n = con.axis, face.normal
@@ -348,19 +361,17 @@ def _crossing_carry(con: Any, face: Face, carry: Sequence[_Line], mid_con: Any,
     v[n] = carry[0].end[n]  # the plane the first line's carry turned on
     U, V = (u[0], u[1], u[2]), (v[0], v[1], v[2])
     res, mres = con.result, mid_con.result
-    leg = mid_carry[1]  # the centre line's leg along a: V lies on it, or it ends there
-    if not (_on_segment(U, res.start, res.end, tol)
-            and _on_line(V, leg.start, leg.end, tol)
-            and (_on_segment(V, leg.start, leg.end, tol) or min(
-                math.dist(V, leg.start), math.dist(V, leg.end)) <= tol)
+    leg = mid_carry[1]  # the centre line's leg along a: V lies on it (or at its end)
+    if not (_on_segment(U, res.start, res.end, tol) and _on_segment(V, leg.start, leg.end, tol)
             and max(abs(U[k] - V[k]) for k in range(3)) > tol):
         return None
+    run = _Line("vanishing", U, V)
     if _on_segment(U, mres.start, mres.end, tol):
-        ext = None
-    else:
-        near = min((mres.start, mres.end), key=lambda p: math.dist(p, U))
-        ext = _Line("vanishing", near, U)
-    return ext, _Line("vanishing", U, V), U, V
+        return _Crossing((run,), False, (mres.end, mres.start), U, V, (leg.start, leg.end))
+    near = min((mres.start, mres.end), key=lambda p: math.dist(p, U))
+    far = mres.end if near is mres.start else mres.start
+    return _Crossing((_Line("vanishing", near, U), run), True, (far, near), U, V,
+                     (leg.start, leg.end))
 
 
 def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[int, float]:
