@@ -321,6 +321,13 @@ def _relation_axis_holds_on(relation: Relation, axis: int, a_lo: Any, a_hi: Any,
         1.0, np.maximum(np.abs(fa), np.abs(fb)))
 
 
+def _relation_decides(relation: Relation, axis: int) -> bool:
+    """Whether :func:`_relation_axis_holds` along ``axis`` can be False for ``relation``."""
+    if relation.type == "coplanar":
+        return axis == relation.axis
+    return axis in relation_axes(relation)
+
+
 def relation_holds(relation: Relation, box_a: Box, box_b: Box) -> bool:
     """True when ``relation`` holds between boxes of its parts ``a`` and ``b``.
 
@@ -762,7 +769,9 @@ class _Generator:
         """Per axis, per end: every anchored position within reach of the change limit."""
         orig = self.ctx.prims[part].box
         mc = self.ctx.settings.max_change
-        found: list[dict[tuple, _End]] = [dict() for _ in range(3)]
+        # per axis: (end, parent id, ratio) -> (rank of its face, value, parent part, face
+        # area, face normal, face side, guide lines); the anchors are made once, at the end
+        found: list[dict[tuple, tuple]] = [{} for _ in range(3)]
         # per axis: each interval point's input coordinate and how far an anchor may move it
         targets = []
         for axis in range(3):
@@ -788,16 +797,17 @@ class _Generator:
                             key = (end, pid, entry.ratio)
                             old = found[axis].get(key)
                             # prefer the larger face; on a tie, the shared plane itself
-                            if old is None or better > (old.face_area,
-                                                        old.anchor.face_side is not None):
-                                anchor = Anchor(axis, end, pid, entry.ratio, entry.guide_lines,
-                                                normal, fside)
-                                found[axis][key] = _End(value, anchor, parent_part, area)
+                            if old is None or better > old[0]:
+                                found[axis][key] = (better, value, parent_part, area, normal,
+                                                    fside, entry.guide_lines)
         out: list[dict[str, list[_End]]] = []
         for axis in range(3):
             per_end: dict[str, list[_End]] = {"lo": [], "hi": [], "mid": []}
             for key in sorted(found[axis], key=lambda k: (k[0], k[1], k[2])):
-                per_end[key[0]].append(found[axis][key])
+                end, pid, ratio = key
+                _, value, parent_part, area, normal, fside, lines = found[axis][key]
+                per_end[end].append(_End(value, Anchor(axis, end, pid, ratio, lines, normal,
+                                                       fside), parent_part, area))
             out.append(per_end)
         return out
 
@@ -879,25 +889,45 @@ class _Generator:
                                          free[keep])
         two = second >= 0
         sec = np.where(two, second, first)
+        # along this axis, the preserved relations with the parents (per parent candidate):
+        # each parent candidate's rows found once from rows sorted by it, not by a mask over
+        # every row per parent (a big part has hundreds of parents and 10^4-10^5 rows)
         valid = np.ones(len(first), dtype=bool)
-        # along this axis, the preserved relations with the parents (per parent candidate)
         pairs = self.preserved_pairs()
         codes, at_first = np.unique(parent, return_index=True)
+        checks = []
         for c, e in zip(codes.tolist(), at_first.tolist()):
-            rels = pairs.get((part, pool[e].parent_part), ())
-            if not rels:
-                continue
-            uses = (parent[first] == c) | (two & (parent[sec] == c))
-            if not uses.any():
-                continue
-            pbox = self.ctx.cands[pool[e].anchor.parent].box
-            p_lo, p_hi = pbox[0][axis], pbox[1][axis]
-            o_lo, o_hi = los[uses], his[uses]
-            ok = np.ones(len(o_lo), dtype=bool)
-            for rel in rels:
-                ok &= (_relation_axis_holds_on(rel, axis, o_lo, o_hi, p_lo, p_hi) if rel.a == part
-                       else _relation_axis_holds_on(rel, axis, p_lo, p_hi, o_lo, o_hi))
-            valid[uses] &= ok
+            rels = [rel for rel in pairs.get((part, pool[e].parent_part), ())
+                    if _relation_decides(rel, axis)]
+            if rels:
+                checks.append((c, e, rels))
+        if checks:
+            p_first = parent[first]
+            p_sec = np.where(two & (parent[sec] != p_first), parent[sec], -1)
+            by_first, by_sec = np.argsort(p_first, kind="stable"), np.argsort(p_sec, kind="stable")
+            sorted_first, sorted_sec = p_first[by_first], p_sec[by_sec]
+            for c, e, rels in checks:
+                i0, i1 = np.searchsorted(sorted_first, [c, c + 1])
+                j0, j1 = np.searchsorted(sorted_sec, [c, c + 1])
+                if i0 == i1 and j0 == j1:
+                    continue
+                uses = np.concatenate([by_first[i0:i1], by_sec[j0:j1]])  # disjoint rows
+                pbox = self.ctx.cands[pool[e].anchor.parent].box
+                p_lo, p_hi = pbox[0][axis], pbox[1][axis]
+                o_lo, o_hi = los[uses], his[uses]
+                ok = np.ones(len(uses), dtype=bool)
+                for rel in rels:
+                    ok &= (_relation_axis_holds_on(rel, axis, o_lo, o_hi, p_lo, p_hi)
+                           if rel.a == part
+                           else _relation_axis_holds_on(rel, axis, p_lo, p_hi, o_lo, o_hi))
+                valid[uses] &= ok
+        # costs and ranks only of the valid rows (kept in row order: ties go by it)
+        rows_ok = np.flatnonzero(valid)
+        if not len(rows_ok):
+            return []
+        first, second, sec, two, los, his, free = (
+            first[rows_ok], second[rows_ok], sec[rows_ok], two[rows_ok], los[rows_ok],
+            his[rows_ok], free[rows_ok])
         # E_d of the axis (_axis_cost) and E_e (the construction lines)
         norm = _norm_length(orig, axis)
         cost = (np.abs((his - los) - _extent(orig, axis)) / norm
@@ -905,27 +935,28 @@ class _Generator:
         a_ref, floor = self.ctx.a_ref, 1e-6 * self.ctx.a_ref
         face = self._codes([(e.anchor.parent, e.anchor.face_normal, e.anchor.face_side)
                             for e in pool])
-        ratio = [e.anchor.ratio for e in pool]
+        # lines per ratio and per pair of ratios, looked up by the ratios' codes (a few
+        # catalogue ratios recur in every pool)
+        ratios: dict[float, int] = {}
+        r_code = np.array([ratios.setdefault(e.anchor.ratio, len(ratios)) for e in pool],
+                          dtype=np.int64)
+        distinct = list(ratios)
         area = np.array([max(e.face_area, floor) for e in pool])
-        one = np.array([_lines_of((r,)) for r in ratio], dtype=float) * a_ref / area
+        one = _pair_lines(tuple(distinct)).diagonal()[r_code] * a_ref / area
         shared = two & (face[first] == face[sec])
-        both = np.zeros(len(first))
-        at = np.nonzero(shared)[0]
-        both[at] = [_lines_of((ratio[x], ratio[y])) for x, y in zip(first[at].tolist(),
-                                                                   sec[at].tolist())]
+        both = np.where(shared, _pair_lines(tuple(distinct))[r_code[first], r_code[sec]], 0.0)
         diff = np.where(shared, both * a_ref / area[sec],
                         one[first] + np.where(two & ~shared, one[sec], 0.0))
         diff = diff * self.ctx.settings.guide_cost
         score = self.w_a * cost + self.w_d * diff
         # ties on (score, lo, hi) go by the anchors' keys: each end's key ranked
         # once, a single end before any pair it starts
+        keys = [_anchor_key(e.anchor) for e in pool]
         key_rank = np.empty(len(pool), dtype=np.int64)
-        key_rank[sorted(range(len(pool)), key=lambda x: _anchor_key(pool[x].anchor))] = (
-            np.arange(len(pool)))
+        key_rank[sorted(range(len(pool)), key=keys.__getitem__)] = np.arange(len(pool))
         r_first = key_rank[first]
         r_second = np.where(two & (second != first), key_rank[sec], -1)
         order = np.lexsort((r_second, r_first, his, los, score))
-        order = order[valid[order]]
         if not len(order):
             return []
         # groups: the parent parts used, and whether a fresh parent is among them
@@ -944,8 +975,8 @@ class _Generator:
         # (place, rank), returned in rank order
         by_group = np.argsort(group, kind="stable")
         sorted_groups = group[by_group]
-        starts = np.flatnonzero(np.r_[True, sorted_groups[1:] != sorted_groups[:-1]])
-        sizes = np.diff(np.r_[starts, len(order)])
+        starts = np.flatnonzero(np.concatenate(([True], sorted_groups[1:] != sorted_groups[:-1])))
+        sizes = np.diff(np.append(starts, len(order)))
         place = np.empty(len(order), dtype=np.int64)
         place[by_group] = np.arange(len(order)) - np.repeat(starts, sizes)
         kept_at = np.flatnonzero(place < per_group)
@@ -1306,6 +1337,15 @@ def _face_lines_of(anchors: tuple[tuple[float, bool], ...]) -> int:
 def _lines_of(ratios: tuple[float, ...]) -> int:
     """``distinct_lines(ratios)``, remembered: a few catalogue ratios recur millions of times."""
     return distinct_lines(ratios)
+
+
+@functools.lru_cache(maxsize=256)
+def _pair_lines(ratios: tuple[float, ...]) -> np.ndarray:
+    """``distinct_lines((x, y))`` for every pair of ``ratios``, as a read-only table; its
+    diagonal is each ratio's own count (the lines are a set: ``(x, x)`` counts as ``(x,)``)."""
+    table = np.array([[_lines_of((x, y)) for y in ratios] for x in ratios], dtype=float)
+    table.flags.writeable = False
+    return table
 
 
 def _face_area_of(pbox: Box, axis: int, normal: int) -> float:
