@@ -448,6 +448,13 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     area = (np.vstack([shadow, np.hstack([hull, np.roll(hull, -1, axis=0)])])
             if len(hull) >= 3 else shadow)
     deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
+    # labels that name a line beside it, where the drawing will be: the first of their places
+    # clear of the drawing's lines, else of the sheet's lines and labels only (like the
+    # footprint's own label, in the footprint if need be: beside a short upright line over a
+    # footprint seen from above there is no other room); never moved
+    # away (a label 40 mm off names nothing, and one moved down the height line names the
+    # floor line); with no room, the step's words alone say which line it is
+    beside: list[list[Text]] = []
     # Horizon.
     hl = _horizon(plan)
     if hl is not None:
@@ -507,6 +514,20 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
                                       "ground_edge"))
         drop = first_floor_line(plan) if ground_mm is None else None
+        if drop is not None and edge is not None:
+            # the height and the floor line are one upright line through the footprint's
+            # corner: the part above it is named, so that it is not taken for the height of
+            # the whole line (a read-through of the desk: "a beginner will make the desktop as
+            # tall as the whole desk")
+            (bx, by), (tx, ty) = edge
+            mx, my = 0.5 * (bx + tx), 0.5 * (by + ty)
+            height = _t("sheet.height")
+            beside.append([Text(x, y, height, 7, "Helvetica", anchor, "blue", "height_label")
+                           for x, y, anchor in ((mx + 2.0, my - 1.0, "start"),
+                                                (mx - 2.0, my - 1.0, "end"),
+                                                (tx, ty + 1.5, "middle"),
+                                                (tx + 2.0, ty - 1.0, "start"),
+                                                (tx - 2.0, ty - 1.0, "end"))])
         if drop is not None:  # the floor below it: the object's whole height
             for piece in clip_polyline(drop, frame):
                 items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
@@ -703,6 +724,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             extra = []
         items += extra
         items += texts
+    for places in beside:
+        fit = next((t for avoid in (shadow, None) for t in places
+                    if _fits([t], items, frame, avoid)), None)
+        if fit is not None:  # else the step's words say where the line is, unnamed
+            items.append(fit)
     ticks = vp_ticks(plan, frame, items, shadow)
     if labels_near and _unticked(plan, frame, ticks):  # the labels beside their arrows took
         # the room of a far point's ticks: a ruler through ticks matters more

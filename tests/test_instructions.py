@@ -1167,7 +1167,8 @@ def _sheet_clashes_with_footprint(page) -> list[str]:
                         and it.role == "ground"])
     hull = S._hull(foot.reshape(-1, 2).tolist())
     bad = [f"text {it.string!r}" for it in page.items
-           if isinstance(it, L.Text) and it.string and it.role != "ground_label"
+           if isinstance(it, L.Text) and it.string
+           and it.role not in ("ground_label", "height_label")  # they name its lines
            and S._in_convex(hull, ((it.box_mm[0] + it.box_mm[2]) / 2,
                                    (it.box_mm[1] + it.box_mm[3]) / 2))]
     for it in page.items:
@@ -1207,6 +1208,48 @@ def test_sheet_labels_and_arrows_keep_off_the_printed_first_box(examples, shared
     for view in t.views:
         vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
         assert not _sheet_clashes_with_footprint(sheet(t, vp, view.name)), view.name
+
+
+def test_a_raised_first_boxs_height_is_told_apart_from_the_floor_line(examples, shared_models):
+    # a read-through of the desk: its height and the floor line are one blue upright line
+    # through the footprint's corner, and "Its height is the blue upright line" made the
+    # desktop as tall as the whole desk.  The step says the part above the corner, and the
+    # sheet names that part beside it; a first box on the floor is said as before
+    from h2s_print.config import load_tutorial
+    from h2s_print.templates import lookup
+    from conftest import CONFIGS
+
+    above = lookup("steps", "substep.first_height_floor")
+    plain = lookup("steps", "substep.first_height")
+    word = lookup("pages", "sheet.height")
+    seen = labelled = 0
+    for path in (CONFIGS.parent / "benchmarks" / "configs" / "desk_fredrik.yaml",
+                 CONFIGS / "camera.yaml"):
+        t = load_tutorial(path)
+        plan = build_plan(t.model, t.solver, t.views)
+        for view in t.views:
+            vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+            edge, drop = S.first_near_edge(vp), S.first_floor_line(vp)
+            page, = [p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=view.name)
+                     if p.kind == "sheet"]
+            named = [it for it in page.items if isinstance(it, L.Text) and it.string == word]
+            first = vp.steps[0].substeps
+            if drop is None:
+                assert plain in first and above not in first and not named
+                continue
+            seen += 1
+            assert above in first and plain not in first
+            # one upright line: the height ends where the floor line starts
+            assert np.allclose(edge[0], drop[0], atol=1e-9) and edge[1][1] > edge[0][1] > drop[1][1]
+            # the height's name beside it or just above it, never beside the floor line
+            # below (where there is no such room, the words alone say it)
+            for label in named:
+                x0, y0, x1, y1 = label.box_mm
+                assert edge[0][1] - 1.0 <= 0.5 * (y0 + y1) <= edge[1][1] + 4.0
+                assert x0 - 3.0 <= edge[1][0] <= x1 + 3.0 or min(
+                    abs(x0 - edge[0][0]), abs(x1 - edge[0][0])) <= 3.0
+            labelled += bool(named)
+    assert seen >= 2 and labelled >= 2
 
 
 def test_parts_on_the_floor_under_a_raised_first_box_are_stood_on_it(shared_models):

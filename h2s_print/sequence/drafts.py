@@ -53,13 +53,17 @@ def _first_specs(lines: FirstBoxLines | None) -> list[Spec]:
     footprint, whose edges are gone over ("Its bottom is the blue footprint" then "Draw its
     edges" asked for a box the footprint already is).  The printed footprint places the box:
     "Place it by the green paper corners, as pictured" is said only where the sheet prints
-    none (a read-through, with the footprint printed: "confusing")."""
+    none (a read-through, with the footprint printed: "confusing").  Above the floor, the
+    height and the floor line are one upright line through the footprint's corner: the height
+    is the part above it, named so on the sheet (a read-through: "a beginner will make the
+    desktop as tall as the whole desk")."""
     if lines is None:
         return [spec("first_edges"), spec("first_corners")]
     tall = lines.height is not None
     floor = lines.floor is not None
     flat = "_flat" if lines.flat else ""
-    return [spec("first_footprint" + flat), *([spec("first_height")] if tall else []),
+    return [spec("first_footprint" + flat),
+            *([spec("first_height_floor" if floor else "first_height")] if tall else []),
             *([spec("first_floor")] if floor else []), spec("first_edges" + flat)]
 
 
