@@ -1545,3 +1545,31 @@ def test_a_centring_says_which_way_and_its_line_lies_in_that_mid_plane(examples,
                     both += m.group(2) is not None
                     checked += 1
     assert checked >= 10 and both >= 1
+
+
+def test_a_line_named_as_carried_in_a_step_is_named_there(examples, shared_models):
+    # a read-through of the chair: step 2 said "Carry FG away from the left vanishing
+    # point ..., as pictured" and step 3 "Centre part 3 left to right on FJ, carried in
+    # step 2": J was never said.  A straight carry that runs one way names where it ends
+    from h2s_print.config import load_tutorial
+    from conftest import CONFIGS
+
+    letter = r"[A-Z]'*"
+    said = re.compile(rf"on ({letter})({letter}), carried in step (\d+)")
+    views = [vp for _, (_, _, vs) in sorted(examples.items()) for (v, lvl), vp in vs.items()
+             if lvl in ("novice", "apprentice")]
+    for stem in ("chair_ingolf", "desk_fredrik"):
+        t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / f"{stem}.yaml")
+        plan = build_plan(t.model, t.solver, t.views)
+        views += [seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+                  for view in t.views]
+    checked = 0
+    for vp in views:
+        for s in vp.steps:
+            for a, b, k in said.findall(s.text):
+                earlier = vp.steps[int(k) - 1].text
+                tokens = set(re.findall(rf"(?<![A-Za-z']){letter}", earlier)) | {
+                    x for pair in re.findall(rf"({letter})({letter})", earlier) for x in pair}
+                assert {a, b} <= tokens, (s.text, earlier)
+                checked += 1
+    assert checked >= 4

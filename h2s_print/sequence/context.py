@@ -1049,6 +1049,7 @@ class _Context(_Repeats, _Ellipses):
         boxed: set[str] = set()
         known: list[tuple[Vec3, Vec3]] = []  # lines reused from earlier steps
         carried: dict[tuple[int, int | None], list[Pts]] = {}  # by (first axis, turn)
+        ends: dict[tuple[int, int | None], list[Pts | None]] = {}  # each run's end, if one
         corners: dict[tuple[int, int | None], list[Pts]] = {}  # where those turn, in order
         # which way each carry moves (first leg, turning leg: 3D start and end), for "toward"
         # or "away from" its vanishing point (_Words.vp)
@@ -1152,6 +1153,14 @@ class _Context(_Repeats, _Ellipses):
                     (c.start, c.end) for c, x in zip(carry[1:], axes[1:]) if x == turn)[:1])
                 if not any(_same_segment(a, b, r.points[0], r.points[1], self.tol) for r in runs):
                     runs.append(Pts((a, b)))
+                    # where a centring line's carry ends (a straight one when it runs one
+                    # way): lettered and said, since the part's step names the line by it
+                    # ("Centre part 3 on FJ, carried in step 2" after "Carry FG ..., as
+                    # pictured", a read-through); the other carried lines it calls "the
+                    # lines carried in step 2", and their ends cost no words
+                    ends.setdefault((first, turn), []).append(
+                        Pts((carry[-1].end,)) if anchor.end == "mid"
+                        and (turn is not None or len(carry) == 1) else None)
                     if turn is not None:  # where it turns, lettered on the picture
                         corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
                         n = face.normal  # the turn lies on a plane of the part across n
@@ -1250,7 +1259,10 @@ class _Context(_Repeats, _Ellipses):
             pieces = []  # per sentence, the carries (first axis, turn) it says
             for axis, turn, runs in carries:
                 if turn is None:
-                    carrying.append(moving("carry", runs, vp=words.vp(axis, *legs[axis, turn][0])))
+                    at = [e for r, e in zip(carried[axis, turn], ends[axis, turn]) if r in runs]
+                    vp = words.vp(axis, *legs[axis, turn][0])
+                    carrying.append(moving("carry_to", runs, vp=vp, points=Many(tuple(at)))
+                                    if all(at) else moving("carry", runs, vp=vp))
                     pieces.append([(axis, turn)])
                 elif (axis, turn) in meet:
                     other = meet[axis, turn]
@@ -1282,11 +1294,13 @@ class _Context(_Repeats, _Ellipses):
                         line=Pts(legs[axis, turn][-1]), **on)))
                 else:
                     pieces.append([(axis, turn)])
+                    at = [e for r, e in zip(carried[axis, turn], ends[axis, turn]) if r in runs]
+                    key = "carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn"
+                    to = {"points": Many(tuple(at))} if all(at) else {}
                     carrying.append(moving(
-                        "carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn",
-                        runs, vp=words.vp(axis, *legs[axis, turn][0]),
+                        key + "_to" if to else key, runs, vp=words.vp(axis, *legs[axis, turn][0]),
                         vp2=words.vp(turn, *legs[axis, turn][-1]),
-                        turns=Many(tuple(corners[axis, turn]))))
+                        turns=Many(tuple(corners[axis, turn])), **to))
         if extended:
             carrying.append(moving("extend_to", extended))
         # each sentence's lines and the anchors they place
