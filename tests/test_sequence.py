@@ -3367,3 +3367,64 @@ def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
                     faces += 1
                 checked += 1
     assert checked >= 3 and faces >= 1
+
+
+def test_a_carry_down_to_a_part_on_the_floor_turns_where_a_floor_line_meets_it(shared_models):
+    """A read-through of the desk: "Carry FG vertically to H (by eye), then ..." for a foot
+    standing on the floor, whose top nothing places.  The carry turns on the floor instead,
+    where a line drawn along the floor from the floor line's foot meets it: "From H, the
+    blue floor line's foot, draw HJ toward the left vanishing point. Carry FG vertically to
+    J, then ... to K": J on the floor, under the carry's start, JK in the plane the anchor
+    places (the part's middle), on the floor."""
+    from h2s_print import sheet as S
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+    from h2s_print.templates import lookup
+    from conftest import CONFIGS
+
+    floor_said = re.compile(re.escape(lookup("steps", "substep.floor_line")).replace(
+        r"\{point\}", r"([A-Z]'*)").replace(r"\{line\}", r"([A-Z]'*)([A-Z]'*)").replace(
+        r"\{vp\}", ".+"))
+    t = load_tutorial(CONFIGS.parent / "benchmarks" / "configs" / "desk_fredrik.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    chosen = plan.chosen()
+    checked = 0
+    for view in t.views:
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        foot_mm = S.first_floor_line(vp)[1]
+        for s in vp.steps:
+            for k, x in enumerate(s.substeps):
+                m = floor_said.fullmatch(x)
+                if not m:
+                    continue
+                foot, a, b = m.groups()
+                assert a == foot
+                at = {lb.name: lb.at_mm for lb in s.labels if lb.kind == "point"}
+                assert np.allclose(at[foot], foot_mm, atol=0.05)
+                carry = s.substeps[k + 1]
+                assert carry.startswith("Carry ") and f" to {b}, then " in carry
+                assert "(by eye)" not in carry
+                end = re.search(r"then .* to ([A-Z]'*)[,.]", carry).group(1)
+                by_mm = {(round(g.from_mm[0], 6), round(g.from_mm[1], 6),
+                          round(g.to_mm[0], 6), round(g.to_mm[1], 6)): g for g in s.guides}
+
+                def guide(p, q):
+                    for key in ((*p, *q), (*q, *p)):
+                        g = by_mm.get(tuple(round(v, 6) for v in key))
+                        if g is not None:
+                            return g
+                    raise AssertionError((p, q, x, carry))
+
+                part = next(p.part for p in vp.steps[s.index:] if p.kind == "primitive")
+                box = np.asarray(chosen[part].box)
+                floor = box[0][2]
+                along = guide(at[foot], at[b])  # the line along the floor
+                assert along.from3d[2] == pytest.approx(floor) == along.to3d[2]
+                last = guide(at[b], at[end])  # the carry's leg on the floor
+                assert last.from3d[2] == pytest.approx(floor) == last.to3d[2]
+                mid = next(a for a in chosen[part].anchors if a.end == "mid")
+                centre = 0.5 * (box[0][mid.axis] + box[1][mid.axis])
+                assert last.from3d[mid.axis] == pytest.approx(centre)
+                assert last.to3d[mid.axis] == pytest.approx(centre)
+                checked += 1
+    assert checked >= 1

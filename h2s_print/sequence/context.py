@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import math
 from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Iterable, Sequence
 
@@ -355,6 +356,20 @@ class _Context(_Repeats, _Ellipses):
             out.append(_Line("vanishing", start, T))
             result = (start, T)
         return _Unit(first, specs, out, [result], floor=True)
+
+    def floor_leg(self, carry: Sequence[_Line], floor: float, foot: Vec3 | None
+                  ) -> tuple[Vec3, Vec3] | None:
+        """The line along the floor from the floor line's ``foot`` to where ``carry`` turns,
+        when it turns on the ``floor`` in line with the foot along one of the floor's axes
+        (one line toward a vanishing point finds it); None otherwise."""
+        if foot is None or len(carry) < 2:
+            return None
+        turn = carry[0].end
+        if abs(turn[2] - floor) > 10.0 * self.tol or _same_point(turn, foot, 10.0 * self.tol):
+            return None
+        if not any(abs(turn[b] - foot[b]) <= 10.0 * self.tol for b in (0, 1)):
+            return None
+        return (foot[0], foot[1], floor), turn
 
     def floor_line(self, first: str) -> tuple[Vec3, Vec3] | None:
         """The floor line the sheet prints under the first box ``first``'s nearest corner:
@@ -961,6 +976,14 @@ class _Context(_Repeats, _Ellipses):
             return [_Draft(part, "primitive", False, (), strokes, head, subs,
                            _cap(lined_up) + "." if lined_up else "")]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
+        # a part on the floor whose top no anchor places: a carry down to it turns on the
+        # floor, found from the floor line's foot (geometry._turn_plane)
+        foot = None
+        if self.on_floor(part, drawn) and not any(a.axis == 2 and a.end == "hi"
+                                                  for a in cand.anchors):
+            found = self.floor_line(drawn[0])
+            foot = None if found is None else found[1]
+        floor_z = None if foot is None else float(cand.box[0][2])
         flat: list[Spec] = []
         on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
@@ -977,7 +1000,11 @@ class _Context(_Repeats, _Ellipses):
                      anchor.axis, anchor.end == pend))
                 continue
             face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan, self.camera,
-                                                  self.tol)
+                                                  self.tol, floor_z)
+            if floor_z is not None and self.floor_leg(carry, floor_z, foot) is None:
+                # turning on the floor only where a line from its foot reaches the turn
+                face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan,
+                                                      self.camera, self.tol)
             if carry and sum(_sheet_length(self.camera, ln) for ln in carry) < TINY_CARRY_MM:
                 carry = []  # (the chair's seat: "Extend QR as pictured" by nothing visible)
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
@@ -1057,6 +1084,8 @@ class _Context(_Repeats, _Ellipses):
         # carries that turn where the part's own face will be, a face no anchor places: the
         # turn is judged by eye (both read-throughs: "to Q" where nothing defined Q)
         by_eye_turns: set[tuple[int, int | None]] = set()
+        # carries that turn on the floor: the lines along it from the floor line's foot
+        floor_legs: dict[tuple[int, int | None], list[tuple[Vec3, Vec3]]] = {}
         turns: list[tuple[tuple[int, int | None], Vec3, tuple[_Line, ...]]] = []
         # per carry (axis, turn): its lines and the anchors they place
         by_group: dict[tuple[int, int | None], tuple[list[_Line], list[Any]]] = {}
@@ -1167,6 +1196,11 @@ class _Context(_Repeats, _Ellipses):
                         placed = [cand.box[0][n] if a.end == "lo" else cand.box[1][n]
                                   if a.end == "hi" else 0.5 * (cand.box[0][n] + cand.box[1][n])
                                   for a in cand.anchors if a.axis == n]
+                        leg = (None if floor_z is None or n != 2
+                               else self.floor_leg(carry, floor_z, foot))
+                        if leg is not None:  # on the floor, where a line from its foot goes
+                            placed.append(floor_z)
+                            floor_legs.setdefault((first, turn), []).append(leg)
                         if not any(abs(carry[0].end[n] - v) <= 10.0 * self.tol for v in placed):
                             by_eye_turns.add((first, turn))
                         else:
@@ -1179,7 +1213,8 @@ class _Context(_Repeats, _Ellipses):
         if turns:  # (lines every level with guides shows: not construction lines)
             on_paper = ([(ln.start, ln.end) for u in units.values() for ln in u.lines
                          if ln.role != "construction"]
-                        + [(s0, s1) for other in drawn for s0, s1 in self.scaffold_ends(other)])
+                        + [(s0, s1) for other in drawn for s0, s1 in self.scaffold_ends(other)]
+                        + [leg for legs3 in floor_legs.values() for leg in legs3])
             for key, point, _ in turns:
                 if key in by_eye_turns:
                     continue
@@ -1308,6 +1343,25 @@ class _Context(_Repeats, _Ellipses):
                     [a for g in keys for a in by_group[g][1]]) for keys in pieces]
         carrying += [x for x, _, _ in crossed]  # after the carries: the line they meet first
         said_by += [(lines, [anchor]) for _, lines, anchor in crossed]
+        # per sentence, its specs: a carry that turns on the floor after the line along the
+        # floor from the floor line's foot to where it turns (one line each way it runs)
+        sentences = [[x] for x in carrying]
+        for i, keys in enumerate(pieces):
+            for key in keys:
+                if key not in floor_legs or key in by_eye_turns:
+                    continue
+                longest: dict[int, tuple[Vec3, Vec3]] = {}
+                for a, b in floor_legs[key]:
+                    ax = 0 if abs(b[0] - a[0]) > abs(b[1] - a[1]) else 1
+                    if ax not in longest or math.dist(a, b) > math.dist(*longest[ax]):
+                        longest[ax] = (a, b)
+                for ax in sorted(longest):
+                    a, b = longest[ax]
+                    sentences[i].insert(-1, spec("floor_line", line=Pts((a, b)),
+                                                 point=Pts((a,)), vp=words.vp(ax, a, b)))
+                    said_by[i][0].append(_Line("vanishing", a, b))
+                    carry_lines.append(_Line("vanishing", a, b))
+        carrying = [x for group in sentences for x in group]
         carry_units: list[_Unit] = []
         if carrying:  # carrying lines needs no room: it stays with the part unless too long
             owner = self.by_id[cand.anchors[0].parent].part
@@ -1315,12 +1369,12 @@ class _Context(_Repeats, _Ellipses):
             # a carry sentence each, each a unit, when all of them are too long for one
             # step (a guides step over the word limit cannot be cut: the train's chimney
             # carried three lines around corners in 71 words)
-            if (len(carrying) > 1 and not extended
+            if (len(sentences) > 1 and not extended
                     and self.step_words(carrying, _guides_of(9, 9, part=name,
                                                              the_parents=_the(self.say(owner))))
                     > MAX_STEP_WORDS):
-                carry_units = [_Unit(owner, [x], lines, carried_for=anchors)
-                               for x, (lines, anchors) in zip(carrying, said_by)]
+                carry_units = [_Unit(owner, group, lines, carried_for=anchors)
+                               for group, (lines, anchors) in zip(sentences, said_by)]
             for k, u in enumerate(carry_units):
                 units[("carry", k)] = u
         if floor is not None:

@@ -271,26 +271,34 @@ def _anchor_face(anchor: Any, pbox: Box, camera: Camera) -> Face:
     return best[1]
 
 
-def _turn_plane(anchors: Sequence[Any], child: Box, n: int, near: str) -> float:
+def _turn_plane(anchors: Sequence[Any], child: Box, n: int, near: str,
+                floor: float | None = None) -> float:
     """Where along axis ``n`` a carry toward the child turns: on a plane of the child one of
     its ``anchors`` places, so that the turn lies where a construction crosses (read-throughs
     found "Carry FG ... to Q (by eye)" where Q was on no line).  The near face (``near``:
     ``lo`` or ``hi``), else the anchored middle, where the part's centring lines meet on
     their common bisector planes (the paper's roller).  Not the anchored far face: its
     line is often carried a step later, and a corner judged there first then had to meet
-    it exactly (a read-through of the train's chimney, stop 32)."""
+    it exactly (a read-through of the train's chimney, stop 32).  A carry down to a part
+    standing on the floor (``floor``: its bottom's height) whose top no anchor places turns
+    on the floor, where a line from the sheet's floor line can meet it (a read-through of
+    the desk: "Carry FG vertically to H (by eye)", H on the floor, exactly found from the
+    floor line's foot)."""
     ends = {a.end for a in anchors if a.axis == n}
     side = 0 if near == "lo" else 1
     if near not in ends and "mid" in ends:
         return 0.5 * (child[0][n] + child[1][n])
+    if near not in ends and n == 2 and near == "hi" and floor is not None:
+        return floor
     return child[side][n]
 
 
 def _carry_lines(con: Any, face: Face, child: Box, tol: float,
-                 anchors: Sequence[Any] = ()) -> list[_Line]:
+                 anchors: Sequence[Any] = (), floor: float | None = None) -> list[_Line]:
     """Alignment lines, in the plane of the anchored end, from the construction's result line
     to the child's end face (module docstring); with the child's ``anchors``, a carry across
-    the face's normal turns on a plane they place (:func:`_turn_plane`)."""
+    the face's normal turns on a plane they place, or on the ``floor`` the child stands on
+    (:func:`_turn_plane`)."""
     a, n = con.axis, face.normal
     o = 3 - a - n
     c = face.coord
@@ -309,7 +317,7 @@ def _carry_lines(con: Any, face: Face, child: Box, tol: float,
         if clo < plo - tol:
             segs.append((pt(c, plo), pt(c, clo)))
     else:
-        m = _turn_plane(anchors, child, n, "lo" if c < child[0][n] else "hi")
+        m = _turn_plane(anchors, child, n, "lo" if c < child[0][n] else "hi", floor)
         centre = 0.5 * (clo + chi)
         ostar = plo if abs(plo - centre) < abs(phi - centre) else phi
         segs.append((pt(c, ostar), pt(m, ostar)))
@@ -397,7 +405,8 @@ def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[in
 
 
 def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera,
-                  tol: float) -> tuple[Face, Any, list[_Line], list[_Line]]:
+                  tol: float, floor: float | None = None
+                  ) -> tuple[Face, Any, list[_Line], list[_Line]]:
     """An anchor of candidate ``cand`` on candidate ``parent``: its construction face, its
     construction, its lines and the carrying lines, on both boxes as drawn
     (:func:`_drawn_box`).
@@ -409,12 +418,13 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
     chair's back rail: its top was carried from the seat's front top edge along the seat's
     own side edges to its back top edge, which the picture already showed; a read-through
     found nothing new drawn).  Other ratios construct on a face the view shows
-    (:func:`_anchor_face`)."""
+    (:func:`_anchor_face`).  ``floor``: the height of the floor ``cand`` stands on, if it
+    does (:func:`_turn_plane`)."""
     pbox = _drawn_box(plan.primitive(parent.part), parent.box)
     cbox = _drawn_box(plan.primitive(cand.part), cand.box)
     face = _anchor_face(anchor, pbox, camera)
     con = construct(face, anchor.axis, anchor.ratio)
-    carry = _carry_lines(con, face, cbox, tol, cand.anchors)
+    carry = _carry_lines(con, face, cbox, tol, cand.anchors, floor)
     if carry and anchor.end != "mid" and entry_for(anchor.ratio).in_line:
         best = _carry_cost(con, carry, pbox, tol)
         biggest = max(_extent(pbox, a) for a in range(3))
@@ -424,7 +434,7 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
             for end in ("lo", "hi"):
                 other = Face(pbox, n, end)
                 c2 = construct(other, anchor.axis, anchor.ratio)
-                k2 = _carry_lines(c2, other, cbox, tol, cand.anchors)
+                k2 = _carry_lines(c2, other, cbox, tol, cand.anchors, floor)
                 cost = _carry_cost(c2, k2, pbox, tol)
                 if cost[0] < best[0] or (cost[0] == best[0] and cost[1] < best[1] - tol):
                     face, con, carry, best = other, c2, k2, cost
