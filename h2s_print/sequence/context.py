@@ -1000,7 +1000,7 @@ class _Context(_Repeats, _Ellipses):
                      anchor.axis, anchor.end == pend))
                 continue
             face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan, self.camera,
-                                                  self.tol, floor_z)
+                                                  self.tol, floor_z, foot)
             if floor_z is not None and self.floor_leg(carry, floor_z, foot) is None:
                 # turning on the floor only where a line from its foot reaches the turn
                 face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan,

@@ -294,11 +294,14 @@ def _turn_plane(anchors: Sequence[Any], child: Box, n: int, near: str,
 
 
 def _carry_lines(con: Any, face: Face, child: Box, tol: float,
-                 anchors: Sequence[Any] = (), floor: float | None = None) -> list[_Line]:
+                 anchors: Sequence[Any] = (), floor: float | None = None,
+                 foot: Any = None) -> list[_Line]:
     """Alignment lines, in the plane of the anchored end, from the construction's result line
     to the child's end face (module docstring); with the child's ``anchors``, a carry across
     the face's normal turns on a plane they place, or on the ``floor`` the child stands on
-    (:func:`_turn_plane`)."""
+    (:func:`_turn_plane`); it leaves the parent's face along the face's edge nearest the
+    child, or, turning on the floor, the edge in line with the floor line's ``foot`` (a line
+    from the foot along the floor then meets the turn)."""
     a, n = con.axis, face.normal
     o = 3 - a - n
     c = face.coord
@@ -320,6 +323,8 @@ def _carry_lines(con: Any, face: Face, child: Box, tol: float,
         m = _turn_plane(anchors, child, n, "lo" if c < child[0][n] else "hi", floor)
         centre = 0.5 * (clo + chi)
         ostar = plo if abs(plo - centre) < abs(phi - centre) else phi
+        if foot is not None and floor is not None and m == floor:
+            ostar = next((e for e in (ostar, plo, phi) if abs(foot[o] - e) <= tol), ostar)
         segs.append((pt(c, ostar), pt(m, ostar)))
         if ostar > chi + tol:
             segs.append((pt(m, ostar), pt(m, chi)))
@@ -405,7 +410,7 @@ def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[in
 
 
 def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera,
-                  tol: float, floor: float | None = None
+                  tol: float, floor: float | None = None, foot: Any = None
                   ) -> tuple[Face, Any, list[_Line], list[_Line]]:
     """An anchor of candidate ``cand`` on candidate ``parent``: its construction face, its
     construction, its lines and the carrying lines, on both boxes as drawn
@@ -419,12 +424,12 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
     own side edges to its back top edge, which the picture already showed; a read-through
     found nothing new drawn).  Other ratios construct on a face the view shows
     (:func:`_anchor_face`).  ``floor``: the height of the floor ``cand`` stands on, if it
-    does (:func:`_turn_plane`)."""
+    does, and ``foot`` the floor line's foot (:func:`_carry_lines`)."""
     pbox = _drawn_box(plan.primitive(parent.part), parent.box)
     cbox = _drawn_box(plan.primitive(cand.part), cand.box)
     face = _anchor_face(anchor, pbox, camera)
     con = construct(face, anchor.axis, anchor.ratio)
-    carry = _carry_lines(con, face, cbox, tol, cand.anchors, floor)
+    carry = _carry_lines(con, face, cbox, tol, cand.anchors, floor, foot)
     if carry and anchor.end != "mid" and entry_for(anchor.ratio).in_line:
         best = _carry_cost(con, carry, pbox, tol)
         biggest = max(_extent(pbox, a) for a in range(3))
@@ -434,7 +439,7 @@ def _anchor_lines(anchor: Any, parent: Any, cand: Any, plan: Any, camera: Camera
             for end in ("lo", "hi"):
                 other = Face(pbox, n, end)
                 c2 = construct(other, anchor.axis, anchor.ratio)
-                k2 = _carry_lines(c2, other, cbox, tol, cand.anchors, floor)
+                k2 = _carry_lines(c2, other, cbox, tol, cand.anchors, floor, foot)
                 cost = _carry_cost(c2, k2, pbox, tol)
                 if cost[0] < best[0] or (cost[0] == best[0] and cost[1] < best[1] - tol):
                     face, con, carry, best = other, c2, k2, cost
