@@ -1397,11 +1397,12 @@ def plan_part(plan, cid):
 
 def test_an_edge_cited_says_the_side_it_places(examples):
     # A read-through: "Use the edge DC." left the mixer's column's back to be guessed; each
-    # edge cited for a side ("Use the edges AD and AB for its left side and bottom.") lies in
-    # the plane of that side of the part's box, in 3D, at its lettered ends.
+    # edge cited for a side ("Put its left side and bottom on the edges AD and AB.";
+    # "Use the edge QR for its front" read as an end of the part, a read-through of stop 33)
+    # lies in the plane of that side of the part's box, in 3D, at its lettered ends.
     from conftest import side_names
 
-    cite = re.compile(r"Use the edges? (.+) for its (.+)\.")
+    cite = re.compile(r"Put its (?P<sides>.+) on the edges? (?P<lines>.+)\.")
     letter = r"[A-Z]'?"
     checked = 0
     for name, (t, plan, views) in examples.items():
@@ -1416,8 +1417,8 @@ def test_an_edge_cited_says_the_side_it_places(examples):
                         m = cite.fullmatch(sub)
                         if m is None:
                             continue
-                        lines = re.findall(rf"({letter})({letter})", m.group(1))
-                        sides = re.split(r", | and ", m.group(2))
+                        lines = re.findall(rf"({letter})({letter})", m.group("lines"))
+                        sides = re.split(r", | and ", m.group("sides"))
                         pairs = (zip(lines, sides) if len(lines) == len(sides)
                                  else [(ln, sd) for ln in lines for sd in sides])
                         for (p, q), side in pairs:
@@ -1431,7 +1432,8 @@ def test_an_edge_cited_says_the_side_it_places(examples):
     assert checked >= 10
     t, plan, views = examples["mixer"]
     column = next(s for s in views[("front-left", "novice")].steps if s.part == "column")
-    assert any(re.fullmatch(r"Use the edge [A-Z]{2} for its back\.", x) for x in column.substeps)
+    assert any(re.fullmatch(r"Put its back on the edge [A-Z]{2}\.", x)
+               for x in column.substeps)
 
 
 def test_a_round_parts_other_size_is_said_the_same(examples):

@@ -2926,7 +2926,7 @@ def test_a_carry_says_what_each_of_its_lines_places(examples, shared_models):
 def test_an_edge_cited_bare_places_no_side(examples, shared_models):
     """"Use the edge QR." without "for its ..." only for an edge at none of the part's sides
     (checked on the lettered points in 3D against its box): the side an edge places is said
-    ("Use the edge QR for its front."), and a step whose words would leave it out is split
+    ("Put its front on the edge QR."), and a step whose words would leave it out is split
     instead (the chair's seat read "Use the edge QR." at the word limit, a read-through)."""
     cases = _novice_cases(examples, ("chair_ingolf", "desk_fredrik", "table_lack", "box_ivar"))
     token = r"(?<![A-Z'])(?:[A-Z]'*){2}(?![A-Z'])"
@@ -2940,7 +2940,7 @@ def test_an_edge_cited_bare_places_no_side(examples, shared_models):
             box = np.asarray(chosen[s.part].box, float)
             tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
             for x in s.substeps:
-                said += bool(re.match(r"Use the edges? .* for its ", x))
+                said += bool(re.match(r"Put its .* on the edges? ", x))
                 if not re.fullmatch(r"Use the edges? [A-Z' ,and]+\.", x):
                     continue
                 for line in re.findall(token, x):
