@@ -2987,6 +2987,22 @@ def test_the_floor_under_a_part_is_constructed_from_the_floor_line(shared_models
                         assert top3[2] == pytest.approx(box[1][2], abs=1e-9)
                         assert any(at3[end][0] == pytest.approx(box[e][0]) for e in (0, 1))
                         assert any(at3[end][1] == pytest.approx(box[e][1]) for e in (0, 1))
+                        # the top corner is where the part's placed sides meet, not a corner
+                        # judged by eye (a read-through: "From its top corner C", C said
+                        # nowhere, 1.5 mm from the table's corner A, which is the leg's)
+                        sides = [(a.axis, box[0 if a.end == "lo" else 1][a.axis])
+                                 for a in plan.chosen()[s.part].anchors
+                                 if a.axis in (0, 1) and a.end in ("lo", "hi")]
+                        for k in {ax for ax, _ in sides}:
+                            assert any(top3[k] == pytest.approx(v) for ax, v in sides
+                                       if ax == k), (view.name, level, x)
+                        if top and {ax for ax, _ in sides} == {0, 1}:
+                            # a point said before: in an earlier step, or sentence of this one
+                            before = " ".join(s.substeps[:s.substeps.index(x)])
+                            named = [s2 for s2 in vp.steps[:s.index - 1]
+                                     if any(np.allclose(lb.at3d, top3) for lb in s2.labels)]
+                            assert named or re.search(rf"(?<![A-Z']){top}(?!')", before), (
+                                view.name, level, x)
                         # 2D: the line from st along its axis meets the vertical through top
                         d3 = at3[end] - at3[st]
                         far = _project(m, at3[st] + 3.0 * d3)

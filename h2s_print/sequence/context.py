@@ -327,7 +327,10 @@ class _Context(_Repeats, _Ellipses):
         if floor_line is None:
             return None
         eye = np.asarray(self.camera.position, dtype=float)
-        corner = _floor_corner(self.chosen[first].box, cand.box, *floor_line, eye, self.tol)
+        placed = [(a.axis, float(cand.box[0 if a.end == "lo" else 1][a.axis]))
+                  for a in cand.anchors if a.axis in (0, 1) and a.end in ("lo", "hi")]
+        corner = _floor_corner(self.chosen[first].box, cand.box, *floor_line, eye, self.tol,
+                               placed)
         if corner is None:
             return None
         Q, R, F, S, T = corner.Q, corner.R, corner.F, corner.S, corner.T
@@ -336,7 +339,12 @@ class _Context(_Repeats, _Ellipses):
         specs: list[Spec] = []
         out: list[_Line] = []
         words = self.words
-        if moved_a:
+        # Q on the first box's bottom edge (its sides flush with the first box's): QR runs
+        # along that edge, already drawn, and R is the box's corner (a line along a drawn
+        # edge draws nothing new)
+        fbox = self.chosen[first].box
+        along = moved_a and any(abs(Q[b] - fbox[e][b]) <= self.tol for e in (0, 1))
+        if moved_a and not along:
             specs.append(spec("floor_over", line=Pts((Q, R)), point=Pts((Q,)),
                               vp=words.vp(a, Q, R), parent=owner))
             out.append(_Line("vanishing", Q, R))
@@ -346,8 +354,9 @@ class _Context(_Repeats, _Ellipses):
                               point=Pts((F,)), vp=words.vp(b, F, S), end=Pts((S,))))
             out.append(_Line("vanishing", F, S))
             if moved_a:
-                specs.append(spec("floor_drop", line=Pts((R, S)), point=Pts((R,)),
-                                  other=Pts((F, S))))
+                specs.append(spec("floor_drop_corner" if along else "floor_drop",
+                                  line=Pts((R, S)), point=Pts((R,)), other=Pts((F, S)),
+                                  **({"parent": owner} if along else {})))
                 out.append(_Line("vanishing", R, S))
         if moved_a:
             start = S if moved_b else F

@@ -551,10 +551,13 @@ class _FloorCorner:
 
 
 def _floor_corner(first: Box, part: Box, corner: Any, foot: Any, eye: np.ndarray,
-                  tol: float) -> _FloorCorner | None:
+                  tol: float, placed: Sequence[tuple[int, float]] = ()) -> _FloorCorner | None:
     """The construction of :class:`_FloorCorner` for a part whose top lies in the bottom face
     of the ``first`` box (raised above the floor), under which the sheet prints the floor line
-    from ``corner`` (C) down to ``foot`` (F): the part's top corner nearest the ``eye`` (Q),
+    from ``corner`` (C) down to ``foot`` (F): the part's top corner (Q) on the most of the
+    ``placed`` planes ((axis, coordinate): its sides that anchors place, so that Q is where
+    drawn lines cross, not a point judged by eye: a read-through of the table's leg, whose
+    "top corner C" was said nowhere), then nearest the ``eye``,
     carried along one floor axis to the first box's bottom edge through C (R), dropped to the
     floor (S, on the floor line from F along the other axis), and back under Q (T).  ``a`` is
     an axis along which Q and C agree where there is one (then one line: Q's own edge meets
@@ -564,9 +567,12 @@ def _floor_corner(first: Box, part: Box, corner: Any, foot: Any, eye: np.ndarray
     fz = float(foot[2])
     if abs(float(part[1][2]) - cz) > tol:
         return None  # its top is not in the first box's bottom face
+    def on_placed(c: tuple[float, float]) -> int:
+        return sum(any(ax == k and abs(c[k] - v) <= tol for ax, v in placed) for k in (0, 1))
+
     qx, qy = min(((float(x), float(y)) for x in (part[0][0], part[1][0])
                   for y in (part[0][1], part[1][1])),
-                 key=lambda c: (math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+                 key=lambda c: (-on_placed(c), math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
     if not (first[0][0] - tol <= qx <= first[1][0] + tol
             and first[0][1] - tol <= qy <= first[1][1] + tol):
         return None  # its corner is not over the first box's bottom face
