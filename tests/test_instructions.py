@@ -1304,6 +1304,8 @@ def test_a_part_stands_where_the_floor_line_ends_only_on_its_own_upright_edge(ex
     plans.append((t, plan, [(v, seq.sequence_view(plan, v, "novice", t.paper, t.sequence))
                             for v in t.views]))
     at_foot, by_eye = lookup("steps", "substep.on_floor"), lookup("steps", "substep.on_floor_eye")
+    on_line = re.compile(re.escape(lookup("steps", "substep.on_floor_line")).replace(
+        r"\{line\}", r"((?:[A-Z]'*){2})"))
     said = {at_foot: 0, by_eye: 0}
     for t, plan, views in plans:
         floor_z = min(c.box[0][2] for c in plan.chosen().values())
@@ -1321,7 +1323,21 @@ def test_a_part_stands_where_the_floor_line_ends_only_on_its_own_upright_edge(ex
                                   <= tol for i in (0, 1) for j in (0, 1))
                     assert on_edge == (key == at_foot), (t.title, view.name, s.index)
                     said[key] += 1
-    assert said[by_eye] >= 4, said
+                # stop 33: a centring line carried down to the floor under the part says so
+                # ("Its bottom stands on the floor, on JK.", the desk's feet): the line lies on
+                # the floor and through the part's bottom face
+                for x in s.substeps:
+                    m = on_line.fullmatch(x)
+                    if not m:
+                        continue
+                    box = np.asarray(plan.chosen()[s.part].box, float)
+                    at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels}
+                    p, q = (at[c] for c in re.findall(r"[A-Z]'*", m.group(1)))
+                    assert p[2] == pytest.approx(floor_z) == q[2]
+                    k = int(abs(q[1] - p[1]) <= abs(q[0] - p[0]) * 1e-9)  # constant axis
+                    assert box[0][k] - 1e-9 <= p[k] <= box[1][k] + 1e-9
+                    said["line"] = said.get("line", 0) + 1
+    assert said[by_eye] + said.get("line", 0) >= 4 and said.get("line", 0) >= 2, said
 
 
 def test_a_copy_right_over_its_original_says_which_way_it_lies(shared_models):

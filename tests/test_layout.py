@@ -794,8 +794,10 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
             floor = [(i, g) for i, g in printed if g.id == seq_drafts.SHEET_FLOOR]
             on_floor = (lookup("steps", "substep.on_floor"),
                         lookup("steps", "substep.on_floor_eye"))
+            on_line = lookup("steps", "substep.on_floor_line").split("{")[0]
             assert {i for i, g in floor if i != first} == {
-                i for i, st in enumerate(vp.steps) if any(x in st.substeps for x in on_floor)}
+                i for i, st in enumerate(vp.steps) if any(
+                    x in on_floor or x.startswith(on_line) for x in st.substeps)}
             if floor:
                 (_, g), = [(i, g) for i, g in floor if i == first]
                 z0 = min(c.box[0][2] for c in plan.chosen().values())

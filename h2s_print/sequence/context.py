@@ -184,8 +184,8 @@ def _unsaid(x: Spec) -> Spec:
 def _stands_on_floor(d: _Draft) -> bool:
     """Does draft ``d`` stand a part on the floor the sheet prints ("Its bottom stands on the
     floor")?"""
-    return any(x.key in ("on_floor", "on_floor_eye", "floor_line", "floor_line_end",
-                         "floor_back")
+    return any(x.key in ("on_floor", "on_floor_eye", "on_floor_line", "floor_line",
+                         "floor_line_end", "floor_back")
                for x in d.specs)
 
 
@@ -1054,7 +1054,16 @@ class _Context(_Repeats, _Ellipses):
         refs = _unique([self.by_id[a.parent].part for a in cand.anchors]
                        + [q for q in _touching(part, self.chosen, 100.0 * self.tol)
                           if q in drawn])
-        sizes = ([] if floor is not None else self.floor_size(part, drawn)) \
+        # a centring line carried down to the floor under it (geometry._turn_plane): its
+        # bottom stands there, not "judge where by eye" (the desk's feet)
+        on_line = next((Pts((c[-1].start, c[-1].end)) for *_, c in built
+                        if floor_z is not None and len(c) >= 2
+                        and all(abs(q[2] - floor_z) <= 10.0 * self.tol
+                                for q in (c[-1].start, c[-1].end))), None)
+        standing = self.floor_size(part, drawn)
+        if on_line is not None and standing:
+            standing = [(spec("on_floor_line", line=on_line), standing[0][1])]
+        sizes = ([] if floor is not None else standing) \
             + self.size_specs(part, loose, refs)
 
         def by_eye(chosen: list[tuple[Spec, list[int]]]) -> tuple[list[Spec], str]:
