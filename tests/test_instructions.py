@@ -1306,6 +1306,9 @@ def test_a_part_stands_where_the_floor_line_ends_only_on_its_own_upright_edge(ex
     at_foot, by_eye = lookup("steps", "substep.on_floor"), lookup("steps", "substep.on_floor_eye")
     on_line = re.compile(re.escape(lookup("steps", "substep.on_floor_line")).replace(
         r"\{line\}", r"((?:[A-Z]'*){2})"))
+    side_said = re.compile(re.escape(lookup("steps", "substep.floor_side")).replace(
+        r"\{point\}", ".+").replace(r"\{line\}", ".+").replace(r"\{vp\}", ".+").replace(
+        r"\{sides\}", ".+"))
     said = {at_foot: 0, by_eye: 0}
     for t, plan, views in plans:
         floor_z = min(c.box[0][2] for c in plan.chosen().values())
@@ -1337,7 +1340,15 @@ def test_a_part_stands_where_the_floor_line_ends_only_on_its_own_upright_edge(ex
                     k = int(abs(q[1] - p[1]) <= abs(q[0] - p[0]) * 1e-9)  # constant axis
                     assert box[0][k] - 1e-9 <= p[k] <= box[1][k] + 1e-9
                     said["line"] = said.get("line", 0) + 1
-    assert said[by_eye] + said.get("line", 0) >= 4 and said.get("line", 0) >= 2, said
+                # and a side in line with the floor line's foot stands on a line from it
+                # (test_sequence.test_a_side_in_line_with_the_floor_lines_foot_stands_...)
+                for x in s.substeps:
+                    if side_said.fullmatch(x) and s.part is not None:
+                        box = np.asarray(plan.chosen()[s.part].box, float)
+                        assert box[0][2] == pytest.approx(floor_z)
+                        said["side"] = said.get("side", 0) + 1
+    assert (said[by_eye] + said.get("line", 0) + said.get("side", 0) >= 4
+            and said.get("line", 0) >= 2), said
 
 
 def test_a_copy_right_over_its_original_says_which_way_it_lies(shared_models):

@@ -795,9 +795,11 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
             on_floor = (lookup("steps", "substep.on_floor"),
                         lookup("steps", "substep.on_floor_eye"))
             on_line = lookup("steps", "substep.on_floor_line").split("{")[0]
+            side = lookup("steps", "substep.floor_side").split("}")[-1]  # " stands on it."
             assert {i for i, g in floor if i != first} == {
                 i for i, st in enumerate(vp.steps) if any(
-                    x in on_floor or x.startswith(on_line) for x in st.substeps)}
+                    x in on_floor or x.startswith(on_line) or x.endswith(side)
+                    for x in st.substeps)}
             if floor:
                 (_, g), = [(i, g) for i, g in floor if i == first]
                 z0 = min(c.box[0][2] for c in plan.chosen().values())

@@ -8,6 +8,7 @@ rule, anchor guides against the plan.json ratio contract.
 from __future__ import annotations
 
 import functools
+import itertools
 import json
 import logging
 import math
@@ -467,6 +468,9 @@ def test_every_guide_is_drawn_from_lines_already_on_the_paper(examples):
         for s in vp.steps:
             if s.kind not in ("primitive", "guides"):
                 continue
+            # (the sheet's printed lines, the floor line among them, are on the paper from
+            # the start: a floor line drawn from its foot starts on one)
+            drawn += [(g.from3d, g.to3d) for g in s.guides if g.role == "sheet"]
             mine = [(g.from3d, g.to3d) for g in s.guides if g.role != "sheet"]
             assert not _ungrounded(mine, drawn, tol), (name, vp.name, s.index)
             drawn += mine + [(st.points3d[0], st.points3d[-1]) for st in s.strokes]
@@ -1452,7 +1456,10 @@ def test_a_part_placed_by_eye_is_told_what_it_lines_up_with(examples):
     assert "Centre it front to back on the roller." in arm.substeps, arm.substeps
     t, plan, views = examples["train"]
     wheel = next(s for s in views[("front-left", "novice")].steps if s.part == "wheel_1")
-    assert "Line up its back with the engine's front." in wheel.substeps, wheel.substeps
+    # (since stop 33 its back is on a line drawn from the floor line's foot, which lies in
+    # the engine's front: test_a_side_in_line_with_the_floor_lines_foot_stands_on_a_line)
+    assert "Line up its back with the engine's front." in wheel.substeps or any(
+        x.endswith(": its back stands on it.") for x in wheel.substeps), wheel.substeps
     # a placed part's axes without an anchor get the same, and only those axes
     t, plan, views = examples["camera"]
     button = next(s for s in views[("front-left", "novice")].steps if s.part == "shutter_button"
@@ -3444,3 +3451,52 @@ def test_a_carry_down_to_a_part_on_the_floor_turns_where_a_floor_line_meets_it(s
                 assert last.to3d[mid.axis] == pytest.approx(centre)
                 checked += 1
     assert checked >= 2  # both views (high-right: from the edge in line with the foot)
+
+
+def test_a_side_in_line_with_the_floor_lines_foot_stands_on_a_line_from_it(examples):
+    """A read-through of the train: its wheels read "Line up its back with the engine's
+    front. Its bottom stands on the floor: judge where by eye", yet the floor line's foot,
+    printed on the sheet under the engine's nearest corner, lies in the engine's front.  A
+    part on the floor with a side in line with that foot gets the line along the floor from
+    the foot under that side: "From N, the blue floor line's foot, draw NW toward the right
+    vanishing point: its back stands on it."  In 3D the line starts at the foot, lies on the
+    floor in the side's plane and ends at the side's far end; on the page its letters sit
+    where those points project."""
+    from h2s_print import sheet as S
+    from h2s_print.templates import lookup
+
+    said = re.compile(re.escape(lookup("steps", "substep.floor_side")).replace(
+        r"\{point\}", r"([A-Z]'*)").replace(r"\{line\}", r"([A-Z]'*)([A-Z]'*)").replace(
+        r"\{vp\}", ".+").replace(r"\{sides\}", "(.+)"))
+    checked = 0
+    for name, (t, plan, views) in examples.items():
+        chosen = plan.chosen()
+        for view, level in itertools.product(t.views, ("novice", "apprentice")):
+            vp = views[(view.name, level)]
+            floor_line = S.first_floor_line(vp)
+            for s in vp.steps:
+                for x in s.substeps:
+                    m = said.fullmatch(x)
+                    if not m:
+                        continue
+                    foot, a, b, side = m.groups()
+                    assert foot == a
+                    at3 = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels}
+                    at2 = {lb.name: np.asarray(lb.at_mm, float) for lb in s.labels}
+                    assert np.allclose(at2[foot], floor_line[1], atol=0.05)
+                    box = np.asarray(chosen[s.part].box, float)
+                    p, q = at3[a], at3[b]
+                    assert p[2] == pytest.approx(box[0][2]) == q[2]  # on the floor
+                    k = 1 if abs(q[1] - p[1]) <= 1e-9 * max(1.0, abs(q[0] - p[0])) else 0
+                    words = seq_context._context(plan, view, t.paper, t.sequence).words
+                    end = next(e for e in ("lo", "hi") if words.side(k, e) == side)
+                    plane = box[0 if end == "lo" else 1][k]
+                    assert p[k] == pytest.approx(plane) == q[k]  # in the side's plane
+                    o = 1 - k
+                    far = max(box[:, o], key=lambda v: abs(v - p[o]))
+                    assert q[o] == pytest.approx(far)  # to the side's far end
+                    for letter in (a, b):
+                        assert np.allclose(at2[letter], vp.camera.project(at3[letter]),
+                                           atol=0.05)
+                    checked += 1
+    assert checked >= 4  # the train's wheels, both views, novice and apprentice

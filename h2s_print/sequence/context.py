@@ -184,8 +184,8 @@ def _unsaid(x: Spec) -> Spec:
 def _stands_on_floor(d: _Draft) -> bool:
     """Does draft ``d`` stand a part on the floor the sheet prints ("Its bottom stands on the
     floor")?"""
-    return any(x.key in ("on_floor", "on_floor_eye", "on_floor_line", "floor_line",
-                         "floor_line_end", "floor_back")
+    return any(x.key in ("on_floor", "on_floor_eye", "on_floor_line", "floor_side",
+                         "floor_line", "floor_line_end", "floor_back")
                for x in d.specs)
 
 
@@ -404,7 +404,46 @@ class _Context(_Repeats, _Ellipses):
             abs(float(box[i][0]) - float(floor_line[1][0])) <= self.tol
             and abs(float(box[j][1]) - float(floor_line[1][1])) <= self.tol
             for i in (0, 1) for j in (0, 1))
-        return [(spec("on_floor" if at_foot else "on_floor_eye"), [2] if top else [])]
+        side = None if at_foot else self.floor_side(part, drawn)
+        return [(side[0] if side is not None else spec("on_floor" if at_foot else "on_floor_eye"),
+                 [2] if top else [])]
+
+    def floor_side(self, part: str, drawn: Sequence[str]
+                   ) -> tuple[Spec, _Line, tuple[int, str]] | None:
+        """For a part standing on the floor (:meth:`on_floor`) with a side in line with the
+        floor line's foot F: the line along the floor from F under that side, to the side's
+        far end, and the sentence drawing it ("From F, the blue floor line's foot, draw FG
+        toward the right vanishing point: its back stands on it."; the train's wheels, whose
+        backs are in line with the engine's front, read "Its bottom stands on the floor:
+        judge where by eye", a read-through), and the side's (axis, end).  None otherwise."""
+        if not self.on_floor(part, drawn):
+            return None
+        found = self.floor_line(drawn[0])
+        if found is None:
+            return None
+        foot = found[1]
+        box = self.chosen[part].box
+        for k in (0, 1):
+            for e in (0, 1):
+                if abs(box[e][k] - foot[k]) > self.tol:
+                    continue
+                o = 1 - k
+                far = max((box[0][o], box[1][o]), key=lambda v: abs(v - foot[o]))
+                if abs(far - foot[o]) <= self.tol:
+                    continue
+                end = [float(foot[0]), float(foot[1]), float(foot[2])]
+                end[o] = float(far)
+                stop: Vec3 = (end[0], end[1], end[2])
+                side = self.words.side(k, "lo" if e == 0 else "hi")
+                return (spec("floor_side", line=Pts((foot, stop)), point=Pts((foot,)),
+                             vp=self.words.vp(o, foot, stop), sides=side),
+                        _Line("vanishing", foot, stop), (k, "lo" if e == 0 else "hi"))
+        return None
+
+    def floor_side_lines(self, specs: Sequence[Spec]) -> list[_Line]:
+        """The lines the ``floor_side`` sentences among ``specs`` draw."""
+        return [_Line("vanishing", *dict(x.fields)["line"].points) for x in specs
+                if x.key == "floor_side"]
 
     def basic_order(self, keep: set[str]) -> list[str]:
         """The control tutorial's order of the kept parts (fitted boxes, no anchoring): the
@@ -966,6 +1005,15 @@ class _Context(_Repeats, _Ellipses):
             near.sort(key=lambda q: -part_size(self.chosen[q].box))
             positions = self.free_positions(part, drawn)
             where = self.free_specs(positions)
+            # a side standing on a line from the floor line's foot: the line places it, and
+            # says so instead of lining it up in words (the train's wheels' backs)
+            floor = self.floor_size(part, drawn)
+            side = self.floor_side(part, drawn)
+            if side is not None and floor and floor[0][0].key == "floor_side":
+                said_by_line = [(q, a) for q, a in positions
+                                if (a.axis, a.end) != side[2] or a.axis == 2]
+                where = self.free_specs(said_by_line) + [side[0]]
+                floor = []
             # a master reads where it lines up too (a read-through: by eye, and nothing said)
             lined_up = _join(self.lined_up(positions))
             refs = near + sorted((q for q in drawn if q not in near),
@@ -980,10 +1028,9 @@ class _Context(_Repeats, _Ellipses):
 
             loose = self.loose_axes(cand)
             subs = self.lettered(self.copies_pictured(self.sized(
-                head, free, self.floor_size(part, drawn) + self.size_specs(part, loose, refs),
-                part, loose), head))
-            return [_Draft(part, "primitive", False, (), strokes, head, subs,
-                           _cap(lined_up) + "." if lined_up else "")]
+                head, free, floor + self.size_specs(part, loose, refs), part, loose), head))
+            return [_Draft(part, "primitive", False, tuple(self.floor_side_lines(subs)), strokes,
+                           head, subs, _cap(lined_up) + "." if lined_up else "")]
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
         # a part on the floor whose top no anchor places: a carry down to it turns on the
         # floor, found from the floor line's foot (geometry._turn_plane)
@@ -1087,7 +1134,8 @@ class _Context(_Repeats, _Ellipses):
 
             subs = self.lettered(self.copies_pictured(
                 self.sized(head, eyeballed, sizes, part, loose), head))
-            return [_Draft(part, "primitive", True, (), strokes, head, subs, summary)]
+            return [_Draft(part, "primitive", True, tuple(self.floor_side_lines(subs)), strokes,
+                           head, subs, summary)]
         # Units of construction, one per parent face (lines shared on a face stay together).
         units: dict[tuple[str, int, str], _Unit] = {}
         earlier = [] if described is None else described
@@ -1514,6 +1562,7 @@ class _Context(_Repeats, _Ellipses):
         lines = ([_Line("guide", a, b) for u in before for a, b in u.results]
                  + [ln for u in before if any(u is c for c in carry_units) for ln in u.lines]
                  + [ln for u in last for ln in u.lines])
+        lines += self.floor_side_lines(subs)
         if taper:  # "Draw the box around it": its edges are on the picture, and a later
             # construction on it uses it from here ("Use the box around the prism from step 7")
             lines += self.box_around(part)
