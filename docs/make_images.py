@@ -55,8 +55,13 @@ def main() -> None:
     tsteps = [p for p in tpages if p.kind == "steps"]
     repeat = next(pg for pg, st in zip(tsteps, tview.steps)
                   if st.kind == "primitive" and len({s.part for s in st.strokes}) > 1)
+    # a side in line with the sheet's floor line's foot, on a line drawn from the foot (the
+    # wheels' backs, in the engine's front)
+    floor = next(pg for pg, st in zip(tsteps, tview.steps)
+                 if any(x.endswith("stands on it.") for x in st.substeps))
     wanted = {
         "page-step-first": steps[0],  # the first box on the sheet's printed lines
+        "page-step-floor": floor,
         "page-step-guides": first["guides"],
         "page-step-master": [p for p in master_pages if p.kind == "steps"][1],
         # the grip's guides: the construction by name, the result line drawn
