@@ -350,8 +350,12 @@ class _Context(_Repeats, _Ellipses):
             out.append(_Line("vanishing", Q, R))
         result = (F, S)  # the line whose end is the bottom corner
         if moved_b:
-            specs.append(spec("floor_line" if moved_a else "floor_line_end", line=Pts((F, S)),
-                              point=Pts((F,)), vp=words.vp(b, F, S), end=Pts((S,))))
+            # (its end under Q when no line follows: "its nearest upright edge ends at C" was
+            # wrong once Q was the corner its placed sides meet, not the nearest one)
+            specs.append(spec("floor_line", line=Pts((F, S)), point=Pts((F,)),
+                              vp=words.vp(b, F, S), end=Pts((S,))) if moved_a else
+                         spec("floor_line_end", line=Pts((F, S)), point=Pts((F,)),
+                              vp=words.vp(b, F, S), end=Pts((S,)), through=Pts((Q,))))
             out.append(_Line("vanishing", F, S))
             if moved_a:
                 specs.append(spec("floor_drop_corner" if along else "floor_drop",
@@ -408,14 +412,16 @@ class _Context(_Repeats, _Ellipses):
         return [(side[0] if side is not None else spec("on_floor" if at_foot else "on_floor_eye"),
                  [2] if top else [])]
 
-    def floor_side(self, part: str, drawn: Sequence[str]
-                   ) -> tuple[Spec, _Line, tuple[int, str]] | None:
+    def floor_side(self, part: str, drawn: Sequence[str], copies: Sequence[str] = ()
+                   ) -> tuple[Spec, _Line, tuple[int, str], bool] | None:
         """For a part standing on the floor (:meth:`on_floor`) with a side in line with the
         floor line's foot F: the line along the floor from F under that side, to the side's
         far end, and the sentence drawing it ("From F, the blue floor line's foot, draw FG
         toward the right vanishing point: its back stands on it."; the train's wheels, whose
         backs are in line with the engine's front, read "Its bottom stands on the floor:
-        judge where by eye", a read-through), and the side's (axis, end).  None otherwise."""
+        judge where by eye", a read-through), the side's (axis, end), and whether every one
+        of ``copies`` (identical parts drawn with it) has that side on the line too: then
+        the line runs under them all.  None otherwise."""
         if not self.on_floor(part, drawn):
             return None
         found = self.floor_line(drawn[0])
@@ -428,7 +434,10 @@ class _Context(_Repeats, _Ellipses):
                 if abs(box[e][k] - foot[k]) > self.tol:
                     continue
                 o = 1 - k
-                far = max((box[0][o], box[1][o]), key=lambda v: abs(v - foot[o]))
+                boxes = [box] + [self.chosen[q].box for q in copies]
+                along = all(abs(b[e][k] - foot[k]) <= self.tol for b in boxes[1:])
+                far = max((b[j][o] for b in (boxes if along else boxes[:1]) for j in (0, 1)),
+                          key=lambda v: abs(v - foot[o]))
                 if abs(far - foot[o]) <= self.tol:
                     continue
                 end = [float(foot[0]), float(foot[1]), float(foot[2])]
@@ -437,7 +446,8 @@ class _Context(_Repeats, _Ellipses):
                 side = self.words.side(k, "lo" if e == 0 else "hi")
                 return (spec("floor_side", line=Pts((foot, stop)), point=Pts((foot,)),
                              vp=self.words.vp(o, foot, stop), sides=side),
-                        _Line("vanishing", foot, stop), (k, "lo" if e == 0 else "hi"))
+                        _Line("vanishing", foot, stop), (k, "lo" if e == 0 else "hi"),
+                        bool(copies) and along)
         return None
 
     def floor_side_lines(self, specs: Sequence[Spec]) -> list[_Line]:
@@ -979,11 +989,12 @@ class _Context(_Repeats, _Ellipses):
 
     def primitive_drafts(self, part: str, first: bool, step: int = 0,
                          described: list[tuple[Vec3, Vec3, int]] | None = None,
-                         drawn: Sequence[str] = (), repeat: Sequence[Spec] = ()
-                         ) -> list[_Draft]:
+                         drawn: Sequence[str] = (), repeat: Sequence[Spec] = (),
+                         copies_of: Sequence[str] = ()) -> list[_Draft]:
         """The primitive step of ``part`` (step number ``step``), preceded by guides steps when
         its sub-steps would not fit :data:`MAX_STEP_WORDS` (module docstring, *Text*);
-        ``repeat`` are the sub-steps drawing its copies (identical parts), said last."""
+        ``repeat`` are the sub-steps drawing its copies ``copies_of`` (identical parts), said
+        last."""
         cand = self.chosen[part]
         prim = self.plan.primitive(part)
         words = self.words
@@ -1008,12 +1019,20 @@ class _Context(_Repeats, _Ellipses):
             # a side standing on a line from the floor line's foot: the line places it, and
             # says so instead of lining it up in words (the train's wheels' backs)
             floor = self.floor_size(part, drawn)
-            side = self.floor_side(part, drawn)
+            side = self.floor_side(part, drawn, copies_of)
             if side is not None and floor and floor[0][0].key == "floor_side":
                 said_by_line = [(q, a) for q, a in positions
                                 if (a.axis, a.end) != side[2] or a.axis == 2]
                 where = self.free_specs(said_by_line) + [side[0]]
                 floor = []
+                # copies placed by the picture whose side is on the line too: said so (the
+                # line runs under them all: the train's wheels)
+                free_keys = ("repeat_free", "repeat_free_one")
+                if copies_of and side[3] and [x.key for x in copies] in ([k] for k in free_keys):
+                    f = dict(copies[0].fields)
+                    copies = [spec(copies[0].key.replace("free", "floor"), parts=f["parts"],
+                                   shape=f["shape"], line=dict(side[0].fields)["line"])]
+                    repeat = [*taper, *copies]
             # a master reads where it lines up too (a read-through: by eye, and nothing said)
             lined_up = _join(self.lined_up(positions))
             refs = near + sorted((q for q in drawn if q not in near),
@@ -1796,7 +1815,7 @@ class _Context(_Repeats, _Ellipses):
                 rest = [q for q in group[1:] if q not in spaced]
                 repeat = self.same_sentence(rest, shape, keep, p)
                 made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
-                                             repeat=repeat)
+                                             repeat=repeat, copies_of=rest)
                 if rest:
                     others = [_Draft(q, "primitive", False, (),
                                      _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
