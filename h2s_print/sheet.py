@@ -546,11 +546,21 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         high = max(quad, key=lambda p: (p[1], p[0]))
         lft = min(quad, key=lambda p: (p[0], p[1]))
         rgt = max(quad, key=lambda p: (p[0], p[1]))
-        deferred.append([([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")], [])
-                         for x, y, anchor in ((low[0], low[1] - 3.5, "middle"),
-                                              (high[0], high[1] + 1.5, "middle"),
-                                              (rgt[0] + 2.0, rgt[1] - 1.0, "start"),
-                                              (lft[0] - 2.0, lft[1] - 1.0, "end"))])
+        places = [(low[0], low[1] - 3.5, "middle"), (high[0], high[1] + 1.5, "middle"),
+                  (rgt[0] + 2.0, rgt[1] - 1.0, "start"), (lft[0] - 2.0, lft[1] - 1.0, "end")]
+        ground_label = [([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")], [])
+                        for x, y, anchor in places]
+        if drop is not None:
+            # above the floor the floor line hangs from the lowest corner, and a label below it
+            # read as naming that line (a read-through of the desk and the train): in the
+            # footprint first, below it last, and never moved away from it
+            cx = sum(p[0] for p in quad) / len(quad)
+            cy = sum(p[1] for p in quad) / len(quad)
+            beside.append([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")
+                           for x, y, anchor in [(cx, cy - 1.0, "middle"), *places[1:],
+                                                places[0]]])
+        else:
+            deferred.append(ground_label)
     # Vanishing points, named as the step texts name them.
     centre = (w / 2, h / 2)
     inner = (m + 2.0, m + 2.0, w - m - 2.0, h - m - 2.0)  # arrow tips end 2 mm inside the frame
@@ -706,7 +716,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         if placed is None:  # nor that: at least clear of the other labels
             placed = _clear_of_texts(block, items, frame, vertical, None, footprint)
         items += placed or block
-    for options in deferred:
+    def place(options: list[tuple[list[Text], list[Polyline]]]) -> None:
         # the first position off the drawing; else the first one moved off it; else the same
         # off its lines only; else clear of the other labels only; else the first
         texts, extra = options[0]
@@ -722,13 +732,19 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 break
         if _on_texts(extra, items):  # nor an arrow through another label (the desk's horizon)
             extra = []
-        items += extra
-        items += texts
+        items.extend(extra)
+        items.extend(texts)
+
+    for options in deferred:
+        place(options)
     for places in beside:
         fit = next((t for avoid in (shadow, None) for t in places
                     if _fits([t], items, frame, avoid)), None)
-        if fit is not None:  # else the step's words say where the line is, unnamed
+        if fit is not None:
             items.append(fit)
+        elif places[0].role == "ground_label":  # the footprint's name is never left out
+            place([([t], []) for t in places])
+        # (else the step's words say where the line is, unnamed)
     ticks = vp_ticks(plan, frame, items, shadow)
     if labels_near and _unticked(plan, frame, ticks):  # the labels beside their arrows took
         # the room of a far point's ticks: a ruler through ticks matters more
