@@ -287,7 +287,7 @@ _LABEL_SHIFTS = {v: _label_shifts(v) for v in (False, True)}
 
 #: Lines of the drawing sheet that no label may cross: arrows, the horizon, the footprint (and,
 #: where there is room, the finished drawing: ``lay_out_sheet(drawing=...)``).
-_SHEET_LINES = ("vp_arrow", "horizon", "ground", "ground_edge")
+_SHEET_LINES = ("vp_arrow", "horizon", "ground", "ground_edge", "height_tick")
 
 
 def _fits(texts: Sequence[Text], items: Sequence[Item], frame: Box2,
@@ -513,6 +513,14 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             for piece in clip_polyline(edge, frame):
                 items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
                                       "ground_edge"))
+            # its top end marked across it: it runs on past the footprint's far edge in the
+            # picture, where a reader stopped (a read-through of the train, front-left)
+            (bx, by), (tx, ty) = edge
+            n = math.hypot(tx - bx, ty - by)
+            if n > 0 and frame[0] <= tx <= frame[2] and frame[1] <= ty <= frame[3]:
+                ux, uy = (ty - by) / n * 1.2, -(tx - bx) / n * 1.2  # across, 1.2 mm each way
+                items.append(Polyline(((tx - ux, ty - uy), (tx + ux, ty + uy)), "blue", 0.3,
+                                      (), False, "height_tick"))
         drop = first_floor_line(plan) if ground_mm is None else None
         if drop is not None and edge is not None:
             # the height and the floor line are one upright line through the footprint's
@@ -533,6 +541,11 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
                 items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
                                       "ground_edge"))
             fx, fy = drop[1]
+            # its foot, where later steps start lines along the floor, as a dot: a short
+            # floor line can end in a gap of its dashes (a read-through of the train,
+            # high-right: "the foot P is hard to find")
+            if frame[0] <= fx <= frame[2] and frame[1] <= fy <= frame[3]:
+                items.append(Circle(fx, fy, 0.6, "blue", 0.2, "blue", "floor_foot"))
             floor = _t("sheet.floor")
             deferred.append([([Text(x, y, floor, 7, "Helvetica", anchor, "blue",
                                     "floor_label")], [])

@@ -1249,6 +1249,18 @@ def test_a_raised_first_boxs_height_is_told_apart_from_the_floor_line(examples, 
                 assert x0 - 3.0 <= edge[1][0] <= x1 + 3.0 or min(
                     abs(x0 - edge[0][0]), abs(x1 - edge[0][0])) <= 3.0
             labelled += bool(named)
+            # the height's top end marked across it, the floor line's foot by a dot (a
+            # read-through: the train's height line runs on past the footprint's far edge,
+            # and its short floor line ended in a gap of its dashes)
+            tick, = [it for it in page.items if isinstance(it, L.Polyline)
+                     and it.role == "height_tick"]
+            (ax, ay), (bx, by) = tick.points_mm
+            assert np.allclose(((ax + bx) / 2, (ay + by) / 2), edge[1], atol=1e-9)
+            assert abs((bx - ax) * (edge[1][0] - edge[0][0])
+                       + (by - ay) * (edge[1][1] - edge[0][1])) <= 1e-9  # across the line
+            dot, = [it for it in page.items if isinstance(it, L.Circle)
+                    and it.role == "floor_foot"]
+            assert np.allclose((dot.cx_mm, dot.cy_mm), drop[1], atol=1e-9)
             # the footprint's name sits in the footprint or beside it, nearer it than the
             # floor line hanging from its corner (a read-through: "bottom face of part 1
             # (step 1)" below the corner read as naming the floor line)
