@@ -517,7 +517,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             # picture, where a reader stopped (a read-through of the train, front-left)
             (bx, by), (tx, ty) = edge
             n = math.hypot(tx - bx, ty - by)
-            if n > 0 and frame[0] <= tx <= frame[2] and frame[1] <= ty <= frame[3]:
+            if (n > 0 and frame[0] - 1e-6 <= tx <= frame[2] + 1e-6
+                    and frame[1] - 1e-6 <= ty <= frame[3] + 1e-6):
                 ux, uy = (ty - by) / n * 1.2, -(tx - bx) / n * 1.2  # across, 1.2 mm each way
                 items.append(Polyline(((tx - ux, ty - uy), (tx + ux, ty + uy)), "blue", 0.3,
                                       (), False, "height_tick"))
@@ -544,7 +545,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             # its foot, where later steps start lines along the floor, as a dot: a short
             # floor line can end in a gap of its dashes (a read-through of the train,
             # high-right: "the foot P is hard to find")
-            if frame[0] <= fx <= frame[2] and frame[1] <= fy <= frame[3]:
+            if (frame[0] - 1e-6 <= fx <= frame[2] + 1e-6
+                    and frame[1] - 1e-6 <= fy <= frame[3] + 1e-6):  # (often on the frame)
                 items.append(Circle(fx, fy, 0.6, "blue", 0.2, "blue", "floor_foot"))
             floor = _t("sheet.floor")
             deferred.append([([Text(x, y, floor, 7, "Helvetica", anchor, "blue",
