@@ -3512,3 +3512,37 @@ def test_a_side_in_line_with_the_floor_lines_foot_stands_on_a_line_from_it(examp
                                            atol=0.05)
                     checked += 1
     assert checked >= 4  # the train's wheels, both views, novice and apprentice
+
+
+def test_copies_at_the_other_corners_of_a_part_are_said_to_be_there(shared_models):
+    """A read-through of the LACK table: "Part 2, part 4 and part 5: the same box, where the
+    picture shows them", of legs each flush with two of the top's sides at its corners.  Said
+    "at part 1's other corners." only where each copy and the first has both its sides at a
+    corner of that part, every one at another corner (checked on the boxes)."""
+    from h2s_print.templates import lookup
+
+    said = re.compile(re.escape(lookup("steps", "substep.repeat_corners")).replace(
+        r"\{parts\}", "(.+)").replace(r"\{shape\}", ".+").replace(r"\{the_parent\}", "(.+)"))
+    t, plan, _ = _public("table_lack")
+    chosen = plan.chosen()
+    checked = 0
+    for view in t.views:
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        ctx = seq_context._context(plan, view, t.paper, t.sequence)
+        name_of = {ctx.say(p): p for p in chosen}
+        for s in vp.steps:
+            for x in s.substeps:
+                m = said.fullmatch(x)
+                if not m:
+                    continue
+                copies = [name_of[n] for n in re.split(r", | and ", m.group(1).lower())]
+                other = np.asarray(chosen[name_of[m.group(2)]].box, float)
+                corners = set()
+                for q in [s.part, *copies]:
+                    box = np.asarray(chosen[q].box, float)
+                    at = tuple(next(e for e in (0, 1) if abs(box[e][k] - other[e][k]) <= 1e-6)
+                               for k in (0, 1))
+                    corners.add(at)
+                assert len(corners) == len(copies) + 1, (view.name, x)
+                checked += 1
+    assert checked == 2

@@ -134,10 +134,38 @@ class _Repeats:
                     if open_ else ""
                 out.append(spec("repeat", parts=who, shape=shape, where=where,
                                 pictured=pictured))
+            elif (corner := self.at_corners(first, qs)) is not None:
+                out.append(spec("repeat_corners" if len(qs) > 1 else "repeat_corners_one",
+                                parts=who, shape=shape, parent=self.say(corner)))
             else:
                 out.append(spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
                                 shape=shape))
         return out
+
+    def at_corners(self, first: str | None, copies: Sequence[str]) -> str | None:
+        """The part drawn before whose upright corners ``first`` and each of ``copies``
+        stand at, each at another one (flush with the two sides that meet there), or None:
+        "Part 2, part 4 and part 5: the same box, at part 1's other corners." (the table's
+        legs read "where the picture shows them", a read-through, where each is in line with
+        two of the top's sides)."""
+        if first is None or not copies:
+            return None
+        parts = [first, *copies]
+        boxes = [np.asarray(self.chosen[q].box, dtype=float) for q in parts]
+        for other in sorted(self.parents_of(first)):
+            o = np.asarray(self.chosen[other].box, dtype=float)
+            at: set[tuple[int, int]] = set()
+            for b in boxes:
+                # the corner (x end, y end) of ``other`` the box has: both its sides there flush
+                ends = [next((e for e in (0, 1) if abs(b[e, k] - o[e, k]) <= self.tol), None)
+                        for k in (0, 1)]
+                if None in ends:
+                    break
+                at.add((ends[0], ends[1]))
+            else:
+                if len(at) == len(parts):
+                    return other
+        return None
 
     def near_shift(self, first: str, q: str) -> str | None:
         """The ``shifts`` key ("y_hi": behind it) of copy ``q`` from ``first`` when it is moved
