@@ -1027,8 +1027,8 @@ class _Context(_Repeats, _Ellipses):
                 floor = []
                 # copies placed by the picture whose side is on the line too: said so (the
                 # line runs under them all: the train's wheels)
-                free_keys = ("repeat_free", "repeat_free_one")
-                if copies_of and side[3] and [x.key for x in copies] in ([k] for k in free_keys):
+                if (side[3] and len(copies) == 1
+                        and copies[0].key in ("repeat_free", "repeat_free_one")):
                     f = dict(copies[0].fields)
                     copies = [spec(copies[0].key.replace("free", "floor"), parts=f["parts"],
                                    shape=f["shape"], line=dict(side[0].fields)["line"])]
