@@ -448,13 +448,13 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
     area = (np.vstack([shadow, np.hstack([hull, np.roll(hull, -1, axis=0)])])
             if len(hull) >= 3 else shadow)
     deferred: list[list[tuple[list[Text], list[Polyline]]]] = []
-    # labels that name a line beside it, where the drawing will be: the first of their places
-    # clear of the drawing's lines, else of the sheet's lines and labels only (like the
-    # footprint's own label, in the footprint if need be: beside a short upright line over a
-    # footprint seen from above there is no other room); never moved
-    # away (a label 40 mm off names nothing, and one moved down the height line names the
-    # floor line); with no room, the step's words alone say which line it is
-    beside: list[list[Text]] = []
+    # labels that name a line beside them, where the drawing will be: the first of their
+    # places clear of the drawing's lines, else of the sheet's lines and labels only (in the
+    # footprint if need be: beside a short upright line over a footprint seen from above
+    # there is no other room); never moved away (a label 40 mm off names nothing, and one
+    # moved down the height line names the floor line).  With no room, a label that must be
+    # printed (the flag) is placed as the deferred ones are; the others are left out
+    beside: list[tuple[list[Text], bool]] = []
     # Horizon.
     hl = _horizon(plan)
     if hl is not None:
@@ -517,8 +517,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             # picture, where a reader stopped (a read-through of the train, front-left)
             (bx, by), (tx, ty) = edge
             n = math.hypot(tx - bx, ty - by)
-            if (n > 0 and frame[0] - 1e-6 <= tx <= frame[2] + 1e-6
-                    and frame[1] - 1e-6 <= ty <= frame[3] + 1e-6):
+            if n > 0 and _on_frame(frame, tx, ty):
                 ux, uy = (ty - by) / n * 1.2, -(tx - bx) / n * 1.2  # across, 1.2 mm each way
                 items.append(Polyline(((tx - ux, ty - uy), (tx + ux, ty + uy)), "blue", 0.3,
                                       (), False, "height_tick"))
@@ -527,16 +526,15 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             # the height and the floor line are one upright line through the footprint's
             # corner: the part above it is named, so that it is not taken for the height of
             # the whole line (a read-through of the desk: "a beginner will make the desktop as
-            # tall as the whole desk")
-            (bx, by), (tx, ty) = edge
+            # tall as the whole desk"); with no room the step's words say which line it is
             mx, my = 0.5 * (bx + tx), 0.5 * (by + ty)
             height = _t("sheet.height")
-            beside.append([Text(x, y, height, 7, "Helvetica", anchor, "blue", "height_label")
-                           for x, y, anchor in ((mx + 2.0, my - 1.0, "start"),
-                                                (mx - 2.0, my - 1.0, "end"),
-                                                (tx, ty + 1.5, "middle"),
-                                                (tx + 2.0, ty - 1.0, "start"),
-                                                (tx - 2.0, ty - 1.0, "end"))])
+            beside.append(([Text(x, y, height, 7, "Helvetica", anchor, "blue", "height_label")
+                            for x, y, anchor in ((mx + 2.0, my - 1.0, "start"),
+                                                 (mx - 2.0, my - 1.0, "end"),
+                                                 (tx, ty + 1.5, "middle"),
+                                                 (tx + 2.0, ty - 1.0, "start"),
+                                                 (tx - 2.0, ty - 1.0, "end"))], False))
         if drop is not None:  # the floor below it: the object's whole height
             for piece in clip_polyline(drop, frame):
                 items.append(Polyline(tuple(piece), "blue", 0.3, (2.0, 1.0), False,
@@ -545,8 +543,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             # its foot, where later steps start lines along the floor, as a dot: a short
             # floor line can end in a gap of its dashes (a read-through of the train,
             # high-right: "the foot P is hard to find")
-            if (frame[0] - 1e-6 <= fx <= frame[2] + 1e-6
-                    and frame[1] - 1e-6 <= fy <= frame[3] + 1e-6):  # (often on the frame)
+            if _on_frame(frame, fx, fy):
                 items.append(Circle(fx, fy, 0.6, "blue", 0.2, "blue", "floor_foot"))
             floor = _t("sheet.floor")
             deferred.append([([Text(x, y, floor, 7, "Helvetica", anchor, "blue",
@@ -563,19 +560,19 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         rgt = max(quad, key=lambda p: (p[0], p[1]))
         places = [(low[0], low[1] - 3.5, "middle"), (high[0], high[1] + 1.5, "middle"),
                   (rgt[0] + 2.0, rgt[1] - 1.0, "start"), (lft[0] - 2.0, lft[1] - 1.0, "end")]
-        ground_label = [([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")], [])
-                        for x, y, anchor in places]
         if drop is not None:
             # above the floor the floor line hangs from the lowest corner, and a label below it
             # read as naming that line (a read-through of the desk and the train): in the
             # footprint first, below it last, and never moved away from it
             cx = sum(p[0] for p in quad) / len(quad)
             cy = sum(p[1] for p in quad) / len(quad)
-            beside.append([Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")
-                           for x, y, anchor in [(cx, cy - 1.0, "middle"), *places[1:],
-                                                places[0]]])
+            places = [(cx, cy - 1.0, "middle"), *places[1:], places[0]]
+        grounds = [Text(x, y, label, 7, "Helvetica", anchor, "blue", "ground_label")
+                   for x, y, anchor in places]
+        if drop is not None:
+            beside.append((grounds, True))
         else:
-            deferred.append(ground_label)
+            deferred.append([([t], []) for t in grounds])
     # Vanishing points, named as the step texts name them.
     centre = (w / 2, h / 2)
     inner = (m + 2.0, m + 2.0, w - m - 2.0, h - m - 2.0)  # arrow tips end 2 mm inside the frame
@@ -752,14 +749,13 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
 
     for options in deferred:
         place(options)
-    for places in beside:
-        fit = next((t for avoid in (shadow, None) for t in places
+    for texts, keep in beside:
+        fit = next((t for avoid in (shadow, None) for t in texts
                     if _fits([t], items, frame, avoid)), None)
         if fit is not None:
             items.append(fit)
-        elif places[0].role == "ground_label":  # the footprint's name is never left out
-            place([([t], []) for t in places])
-        # (else the step's words say where the line is, unnamed)
+        elif keep:  # the footprint's name is never left out
+            place([([t], []) for t in texts])
     ticks = vp_ticks(plan, frame, items, shadow)
     if labels_near and _unticked(plan, frame, ticks):  # the labels beside their arrows took
         # the room of a far point's ticks: a ruler through ticks matters more
@@ -933,6 +929,12 @@ def _tick_pair(v: Pt, angle: float, reach: float, frame: Box2, corners: Sequence
         else:
             return None
     return made
+
+
+def _on_frame(frame: Box2, x: float, y: float) -> bool:
+    """Is the sheet point (x, y) within ``frame``, its edge included (a point the camera's
+    framing put on the edge may lie a rounding error outside it)?"""
+    return frame[0] - 1e-6 <= x <= frame[2] + 1e-6 and frame[1] - 1e-6 <= y <= frame[3] + 1e-6
 
 
 def _off_frame(vp: Any, frame: Box2) -> bool:

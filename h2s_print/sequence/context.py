@@ -245,6 +245,7 @@ class _Context(_Repeats, _Ellipses):
     _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
     _edges: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    _floor_lines: dict[str, tuple[Vec3, Vec3] | None] = field(default_factory=dict)
     _parts: tuple[list[list[str]], set[str]] | None = None
     _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
     names: dict[str, PartName] = field(default_factory=dict)
@@ -386,10 +387,19 @@ class _Context(_Repeats, _Ellipses):
 
     def floor_line(self, first: str) -> tuple[Vec3, Vec3] | None:
         """The floor line the sheet prints under the first box ``first``'s nearest corner:
-        ``(corner, foot)``, or None (a first box on the floor)."""
-        lines = _first_lines(_scaffold(first, self.plan.primitive(first), self.chosen[first].box,
-                                       self.camera, self.tol), self.camera, self.floor_z(False))
-        return None if lines is None else lines.floor
+        ``(corner, foot)``, or None (a first box on the floor); worked out once (every part
+        on the floor asks)."""
+        if first not in self._floor_lines:
+            lines = _first_lines(_scaffold(first, self.plan.primitive(first),
+                                           self.chosen[first].box, self.camera, self.tol),
+                                 self.camera, self.floor_z(False))
+            self._floor_lines[first] = None if lines is None else lines.floor
+        return self._floor_lines[first]
+
+    def floor_foot(self, part: str, drawn: Sequence[str]) -> Vec3 | None:
+        """The floor line's foot, for a part standing on the floor (:meth:`on_floor`)."""
+        found = self.floor_line(drawn[0]) if self.on_floor(part, drawn) else None
+        return None if found is None else found[1]
 
     def floor_size(self, part: str, drawn: Sequence[str]) -> list[tuple[Spec, list[int]]]:
         """"Its bottom stands on the floor" (:meth:`on_floor`) as the first of the part's
@@ -422,12 +432,9 @@ class _Context(_Repeats, _Ellipses):
         judge where by eye", a read-through), the side's (axis, end), and whether every one
         of ``copies`` (identical parts drawn with it) has that side on the line too: then
         the line runs under them all.  None otherwise."""
-        if not self.on_floor(part, drawn):
+        foot = self.floor_foot(part, drawn)
+        if foot is None:
             return None
-        found = self.floor_line(drawn[0])
-        if found is None:
-            return None
-        foot = found[1]
         box = self.chosen[part].box
         for k in (0, 1):
             for e in (0, 1):
@@ -1053,11 +1060,8 @@ class _Context(_Repeats, _Ellipses):
         built: list[tuple[Any, str, Face, Any, list[_Line], list[_Line]]] = []
         # a part on the floor whose top no anchor places: a carry down to it turns on the
         # floor, found from the floor line's foot (geometry._turn_plane)
-        foot = None
-        if self.on_floor(part, drawn) and not any(a.axis == 2 and a.end == "hi"
-                                                  for a in cand.anchors):
-            found = self.floor_line(drawn[0])
-            foot = None if found is None else found[1]
+        foot = (None if any(a.axis == 2 and a.end == "hi" for a in cand.anchors)
+                else self.floor_foot(part, drawn))
         floor_z = None if foot is None else float(cand.box[0][2])
         flat: list[Spec] = []
         on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)

@@ -219,12 +219,10 @@ def _carried(groups: Sequence[Sequence[_Unit]]) -> set[tuple]:
 
 
 #: Sub-steps that carry lines to the part (the carry unit's).
-_CARRIES = ("carry", "carry_to", "carry_two", "carry_turn", "carry_turn_eye", "extend_to",
-            "carry_for", "carry_to_for", "carry_turn_to", "carry_turn_eye_to",
-            "carry_turn_to_for", "carry_turn_eye_to_for",
-            "carry_two_for", "carry_turn_for", "carry_turn_eye_for", "extend_to_for",
-            "carry_meet", "carry_meet_for", "carry_meet_on", "carry_meet_on_for", "carry_two_meet", "carry_two_meet_for", "cross_carry", "cross_carry_for", "cross_on",
-            "cross_on_for")
+_CARRIES = tuple(key + suffix for key in (
+    "carry", "carry_to", "carry_two", "carry_turn", "carry_turn_eye", "carry_turn_to",
+    "carry_turn_eye_to", "extend_to", "carry_meet", "carry_meet_on", "carry_two_meet",
+    "cross_carry", "cross_on") for suffix in ("", "_for"))
 
 
 def _touch(a: "_Unit", b: "_Unit", tol: float) -> bool:
