@@ -2455,12 +2455,23 @@ def test_a_cylinder_whose_sides_the_drawing_hides_is_not_joined(examples, shared
     plan = build_plan(t.model, t.solver, t.views)
     for view in t.views:
         vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
-        assert not any("ellipses of dowel" in x or "join its two ellipses" in x
+        assert not any("Join the two ellipses of dowel" in x or "join its two ellipses" in x
                        for s in vp.steps for x in s.substeps), view.name
     t, plan, views = examples["camera"]
     assert all(any("the lens" in x and ("Join" in x or "join" in x) for s in vp.steps
                    for x in s.substeps)
                for (view, level), vp in views.items() if level == "novice")
+
+
+def test_ellipses_sketched_by_eye_for_a_part_and_its_copies_say_the_copies(shared_models):
+    """A part's small ellipses sketched by eye in its outlines step, where the step draws its
+    copies' ellipses too, says so (a read-through: the pins plate's "Sketch dowel 1's
+    ellipses by eye" drew the ellipses of six dowels)."""
+    t, plan, views = _public("pins_plate")
+    for view, vp in views:
+        said = [x for s in vp.steps for x in s.substeps if "ellipses" in x and "by eye" in x]
+        assert said, view.name
+        assert all("of dowel" in x and "each copy" in x for x in said), (view.name, said)
 
 
 def test_a_line_from_an_earlier_step_is_named_as_that_step_named_it(examples):

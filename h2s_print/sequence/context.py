@@ -1895,9 +1895,12 @@ class _Context(_Repeats, _Ellipses):
             for head, e in small.items():  # a small ellipse joins its part's outlines
                 if head in at:
                     k = at[head]
+                    # a part and its copies: all their ellipses (a read-through of the
+                    # pins plate: "Sketch dowel 1's ellipses" drew six dowels' ellipses)
+                    key = "ellipse_by_eye_copies" if len(e.group) > 1 else "ellipse_by_eye_part"
                     merged[k] = replace(merged[k], strokes=e.strokes + merged[k].strokes,
-                                        specs=(spec("ellipse_by_eye_part",
-                                                    part=self.say(head)),) + merged[k].specs)
+                                        specs=(spec(key, part=self.say(head)),)
+                                        + merged[k].specs)
                 else:
                     drafts.append(e)
             drafts += self.pack_outlines(merged, lead, self.hidden_drawn(order, self.adjusted))
