@@ -2474,6 +2474,28 @@ def test_ellipses_sketched_by_eye_for_a_part_and_its_copies_say_the_copies(share
         assert all("of dowel" in x and "each copy" in x for x in said), (view.name, said)
 
 
+def test_only_the_first_round_part_s_headline_says_its_ellipses_come_later(examples):
+    """A round part is drawn as a box first; the headline says "Ellipses come later." of the
+    first such part of a tutorial only (a read-through: said in every round part's headline,
+    it told nothing new)."""
+    from h2s_print.templates import lookup
+
+    note = lookup("steps", "headline.cylinder_note").strip()
+    seen = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level == "basic":
+                continue
+            boxes = [s for s in vp.steps if s.kind == "primitive" and s.part is not None]
+            prims = [plan.primitive(s.part) for s in boxes]
+            rounds = [s for s, p in zip(boxes, prims) if p.axis is not None and (
+                p.type == "cylinder" or p.type in ("plane", "frustum") and p.detail.get("round"))]
+            said = [s for s in vp.steps if note in s.headline]
+            assert said == rounds[:1], (name, view, level, [s.index for s in said])
+            seen += bool(said)
+    assert seen >= 6
+
+
 def test_a_line_from_an_earlier_step_is_named_as_that_step_named_it(examples):
     """A line a step cites from an earlier one ("from step 7") is named with the letters in
     that step's order, wherever it is named again: the mixer read "Use diagonals SH and JT

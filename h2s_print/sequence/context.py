@@ -1011,7 +1011,10 @@ class _Context(_Repeats, _Ellipses):
         copies = list(repeat)
         repeat = [*taper, *copies]  # by eye: after its position and sizes, before any copies
         name = self.say(part)
-        note = _raw("headline.cylinder_note") if _round(prim) else ""
+        # said of the first round part only: once read, a round part drawn as a box needs no
+        # note (a read-through: "Ellipses come later" in every such headline said nothing)
+        note = (_raw("headline.cylinder_note") if _round(prim)
+                and not any(_round(self.plan.primitive(q)) for q in drawn) else "")
         if first:
             subs = self.lettered([*_first_specs(_first_lines(strokes, self.camera,
                                                              self.floor_z(False))),
