@@ -2496,6 +2496,39 @@ def test_only_the_first_round_part_s_headline_says_its_ellipses_come_later(examp
     assert seen >= 6
 
 
+def test_a_copy_moved_along_one_axis_says_where_on_it(shared_models):
+    """A copy of a part moved from it along one axis says where along that axis by its anchor
+    there (the rest as the part it copies): the IVAR box's second side panel, "its middle
+    (front to back) in line with part 1's back" (a read-through: it read "where the picture
+    shows it", the words of all its anchors too long).  Checked on the boxes: the copy's
+    middle lies on the named part's named face, where the copied part's does not."""
+    t, plan, views = _public("box_ivar")
+    chosen = plan.chosen()
+    pattern = re.compile(r"(.+): the same box, its middle \((front to back|left to right)\) "
+                         r"in line with (.+)'s (back|front|left side|right side)\.$")
+    said = 0
+    for view, vp in views:
+        ctx = seq_context._context(plan, view, t.paper, t.sequence)
+        part_of = {n.label: p for p, n in ctx.names.items()}
+        for s in vp.steps:
+            assert not any("where the picture shows it" in x for x in s.substeps), s.substeps
+            for x in s.substeps:
+                m = pattern.match(x)
+                if not m:
+                    continue
+                copy = np.asarray(chosen[part_of[m.group(1).lower()]].box, float)
+                first = np.asarray(chosen[s.part].box, float)
+                other = np.asarray(chosen[part_of[m.group(3)]].box, float)
+                k = 1 if m.group(2) == "front to back" else 0
+                faces = ([other[1, 1]] if m.group(4) == "back" else [other[0, 1]] if k == 1
+                         else [other[0, 0], other[1, 0]])
+                mid = copy[:, k].mean()
+                assert min(abs(mid - f) for f in faces) < 1e-6, x
+                assert abs(first[:, k].mean() - mid) > 1e-6, x
+                said += 1
+    assert said >= 4  # two copies in each of two views
+
+
 def test_a_line_from_an_earlier_step_is_named_as_that_step_named_it(examples):
     """A line a step cites from an earlier one ("from step 7") is named with the letters in
     that step's order, wherever it is named again: the mixer read "Use diagonals SH and JT

@@ -782,9 +782,10 @@ class _Context(_Repeats, _Ellipses):
         uses: dict[str, set[str]] = {}
         for group in groups:
             uses[group[0]] = self.parents_of(group[0])
-            placed = self.copy_places(group[1:], keep)
+            placed = self.copy_places(group[1:], keep, group[0])
             for q in group[1:]:
-                uses[q] = self.parents_of(q) if placed.get(q) else set()
+                uses[q] = ({self.by_id[a.parent].part for a in self.copy_anchors(q, group[0])}
+                           if placed.get(q) else set())
         return uses
 
     def groups_of(self, keep: set[str], visible: set[str]) -> list[list[str]]:

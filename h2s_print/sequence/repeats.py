@@ -89,17 +89,35 @@ class _Repeats:
             groups.append(group)
         return groups
 
-    def copy_places(self, members: Sequence[str], keep: set[str]) -> dict[str, str]:
+    def copy_anchors(self, q: str, first: str | None) -> tuple:
+        """The anchors of copy ``q`` that say where it lies: with the group's ``first`` part,
+        those on the axes along which ``q``'s box is moved from ``first``'s when anchors place
+        all of them (on the others it lies as ``first``, the same box: the IVAR box's second
+        side panel, "its middle (front to back) in line with part 1's back", had been placed
+        "where the picture shows it", its full words too long, a read-through); else all."""
+        anchors = tuple(self.chosen[q].anchors)
+        if first is None:
+            return anchors
+        a = np.asarray(self.chosen[first].box, dtype=float)
+        b = np.asarray(self.chosen[q].box, dtype=float)
+        moved = {k for k in range(3) if np.abs(a[:, k] - b[:, k]).max() > self.tol}
+        if not moved or not moved <= {x.axis for x in anchors}:
+            return anchors
+        return tuple(x for x in anchors if x.axis in moved)
+
+    def copy_places(self, members: Sequence[str], keep: set[str],
+                    first: str | None = None) -> dict[str, str]:
         """Per copy of a group, the words placing it by its parents ("its back in line with the
-        body's front"), or "" when it is placed where the picture shows it: when the words are
-        too long to read (:data:`REPEAT_WHERE_WORDS`), name a part not in ``keep`` (left out),
-        or the copies are placed differently."""
+        body's front"; by :meth:`copy_anchors`), or "" when it is placed where the picture
+        shows it: when the words are too long to read (:data:`REPEAT_WHERE_WORDS`), name a
+        part not in ``keep`` (left out), or the copies are placed differently."""
         where = {}
         for q in members:
-            cand = self.chosen[q]
-            w = _join(_ratio_phrases(self.words, cand.anchors, self.parent_name))
+            anchors = self.copy_anchors(q, first)
+            w = _join(_ratio_phrases(self.words, anchors, self.parent_name))
             short = len(w.split()) <= REPEAT_WHERE_WORDS
-            where[q] = w if short and self.parents_of(q) <= keep else ""
+            parents = {self.by_id[x.parent].part for x in anchors}
+            where[q] = w if short and parents <= keep else ""
         if len(set(where.values())) > 1:
             return {q: "" for q in members}
         return where
@@ -112,10 +130,14 @@ class _Repeats:
         lie "directly behind it" (:meth:`near_shift`)."""
         if not members:
             return []
-        places = self.copy_places(members, keep)
+        places = self.copy_places(members, keep, first)
+        # (a copy right over ``first`` on the sheet that its full words would not place is
+        # "directly behind it", whatever the words of its moved axes: the picture shows one
+        # double line there, a read-through of the desk's modesty panels)
+        whole = self.copy_places(members, keep)
         by_where: dict[str, list[str]] = {}
         for q in sorted(members, key=lambda q: natural_key(self.say(q))):
-            shift = self.near_shift(first, q) if first is not None and not places[q] else None
+            shift = self.near_shift(first, q) if first is not None and not whole[q] else None
             key = places[q] if shift is None else "\0" + shift
             by_where.setdefault(key, []).append(q)
         out = []
@@ -129,7 +151,9 @@ class _Repeats:
                 # the same box, its middle (front to back) at half of part 1's depth" said
                 # nothing of where along the desk)
                 # (said where the step has room: _Context.copies_pictured)
-                open_ = any({a.axis for a in self.chosen[q].anchors} != {0, 1, 2} for q in qs)
+                open_ = any({a.axis for a in self.copy_anchors(q, first)} != {0, 1, 2}
+                            and len(self.copy_anchors(q, first)) == len(self.chosen[q].anchors)
+                            for q in qs)
                 pictured = ("repeat_pictured" if len(qs) > 1 else "repeat_pictured_one") \
                     if open_ else ""
                 out.append(spec("repeat", parts=who, shape=shape, where=where,
