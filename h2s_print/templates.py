@@ -55,7 +55,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "kind", "label", "large", "line", "line2", "lines", "lines2", "lo", "n", "near", "new",
         "nth", "other", "other2", "parent", "part", "parts", "point", "point2", "points",
         "position", "pside", "psides", "reused", "second", "shape", "shift", "side", "sides",
-        "small", "start", "step", "text", "the_other", "the_parent", "the_parents", "the_part",
+        "small", "start", "step", "text", "the_other", "the_others", "the_parent", "the_parents", "the_part",
         "through", "total", "turns", "vp", "vp2", "vp3", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",

@@ -867,6 +867,7 @@ def test_a_carry_around_a_corner_says_both_directions(examples):
                 if said:
                     turns += 1
                     then = said[0].split(", then ")[1].rstrip(".")
+                    then = re.split(r" to [A-Z]|, for ", then)[0]  # (to the end, what for)
                     # the turns are lettered: "to M and P" names the corners, each the
                     # end of a carrying line where the next one starts
                     at = {lb.name: lb.at3d for lb in st.labels}

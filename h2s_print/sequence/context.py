@@ -698,10 +698,18 @@ class _Context(_Repeats, _Ellipses):
         """``specs`` with copies placed on some axes only by their words said to be placed
         otherwise as pictured ("Part 7: the same box, its middle (front to back) at half of
         part 1's depth, otherwise as pictured."; a read-through found nothing saying where
-        along the desk), where the step has room: a size sentence is worth more."""
+        along the desk), where the step has room: a size sentence is worth more.  Where the
+        copies' words do not fit the step at all, they lie where the picture shows them."""
         said = [spec(dict(x.fields)["pictured"], x.same, x.pair, **dict(x.fields))
                 if x.key == "repeat" and dict(x.fields).get("pictured") else x for x in specs]
-        return said if said != list(specs) and self.fits_levels(said, headline) else list(specs)
+        if said != list(specs) and self.fits_levels(said, headline):
+            return said
+        if self.fits_levels(specs, headline):
+            return list(specs)
+        # over the step's words with where the copies lie: where the picture shows them
+        return [spec("repeat_free" if dict(x.fields)["many"] else "repeat_free_one", x.same,
+                     x.pair, parts=dict(x.fields)["parts"], shape=dict(x.fields)["shape"])
+                if x.key == "repeat" else x for x in specs]
 
     def fits_levels(self, specs: Sequence[Spec], headline: str) -> bool:
         """Does a step of these sub-steps keep within :data:`MAX_STEP_WORDS` at novice and at
@@ -1472,6 +1480,14 @@ class _Context(_Repeats, _Ellipses):
                 units[("carry", k)] = u
         if floor is not None:
             units[("floor", 0)] = floor
+        # the one face of a drawn part it lies on, said in the headline ("Lens: a box on the
+        # body's front face.", not "from the body" and "Its back lies on the body's front
+        # face.": the sentence's words went to the sizes it had no room for, the lens's
+        # "Make its height the same as its width", a read-through)
+        lies_on = [x for x in flat if x.key == "on_face"]
+        on = dict(lies_on[0].fields) if len(lies_on) == 1 else None
+        if on is not None:
+            flat.remove(lies_on[0])
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
             if anchor.end == "mid":                       # straddles a line
@@ -1510,7 +1526,15 @@ class _Context(_Repeats, _Ellipses):
                        else spec("place" + there, shape=placed)] + taper + copies)
 
         closing = closing_with([])
-        head = _t("headline.anchored", Part=_cap(name), shape=shape, the_parents=parents) + note
+        if on is None:
+            head = _t("headline.anchored", Part=_cap(name), shape=shape,
+                      the_parents=parents) + note
+        else:
+            others = [n for n in _unique(self.parent_name(a) for a in cand.anchors)
+                      if n != on["parent"]]
+            head = _t("headline.on_face_from" if others else "headline.on_face",
+                      Part=_cap(name), shape=shape, parent=on["parent"], face=on["faces"],
+                      the_others=_join([_the(x) for x in others])) + note
         def guides_head(group: list[_Unit], n: int = 0, total: int = 1) -> str:
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             if total > 1:  # several guides steps for one part: numbered (a read-through took

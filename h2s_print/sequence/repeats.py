@@ -157,7 +157,7 @@ class _Repeats:
                 pictured = ("repeat_pictured" if len(qs) > 1 else "repeat_pictured_one") \
                     if open_ else ""
                 out.append(spec("repeat", parts=who, shape=shape, where=where,
-                                pictured=pictured))
+                                pictured=pictured, many=len(qs) > 1))
             elif (corner := self.at_corners(first, qs)) is not None:
                 out.append(spec("repeat_corners" if len(qs) > 1 else "repeat_corners_one",
                                 parts=who, shape=shape, parent=self.say(corner)))
