@@ -553,8 +553,14 @@ def _stroke_points(strokes: Iterable[Stroke]) -> list[Pt]:
 
 
 def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> list[Item]:
-    """Two lines per finite VP enclosing ``strokes``, clipped to the panel; VP marks inside it."""
-    box = _bbox(_stroke_points(strokes))
+    """Two lines per finite VP enclosing ``strokes``, clipped to the panel; VP marks inside it.
+
+    Each line runs through a point of ``strokes`` (the outermost seen from the VP, mostly a
+    corner of the new box), so that it lies along a line the step draws: through the
+    corners of the strokes' bounding box they ran past the box, beside its edges (a
+    read-through: "they don't pass through the handle's corners, so I couldn't use them")."""
+    points = list(dict.fromkeys(_stroke_points(strokes)))
+    box = _bbox(points)
     items: list[Item] = []
     style = STYLES["vanishing"]
     names = vp_names(plan)
@@ -563,13 +569,11 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
             continue
         v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
         if box is not None:
-            corners = [(box[0], box[1]), (box[2], box[1]), (box[2], box[3]), (box[0], box[3])]
             ref = math.atan2(((box[1] + box[3]) / 2) - v[1], ((box[0] + box[2]) / 2) - v[0])
             def rel(c: Pt) -> float:
                 a = math.atan2(c[1] - v[1], c[0] - v[0]) - ref
                 return (a + math.pi) % (2 * math.pi) - math.pi
-            spread = sorted(corners, key=rel)
-            for corner in (spread[0], spread[-1]):
+            for corner in (min(points, key=rel), max(points, key=rel)):
                 if math.dist(corner, v) < 1e-6:
                     continue
                 # From beyond the corner (a quarter of the way back past it) to the VP.

@@ -325,6 +325,25 @@ def test_vanishing_lines_head_for_the_vps():
         assert min(dists) < 1e-6
 
 
+def test_vanishing_lines_run_through_a_point_the_step_draws(examples):
+    """Each grey line toward a vanishing point runs through a point of the step's new lines
+    (mostly a corner of its box), along an edge it draws, not past the box (a read-through:
+    through the corners of the strokes' bounding box they missed the handle's corners).
+    Checked on the page: through a vertex of a line drawn "now"."""
+    t, plan, views = examples["roller"]
+    pages = L.lay_out_workbook("t", views[("front-left", "novice")], A4L, view_label="v")
+    checked = 0
+    for page in pages:
+        pts = [p for ln in polylines(page, "stroke_new") for p in ln.points_mm]
+        for ln in polylines(page, "vanishing"):
+            a, b = ln.points_mm
+            d = min(abs((b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0]))
+                    / math.dist(a, b) for p in pts)
+            assert d < 1e-6, (page.number if hasattr(page, "number") else None, d)
+            checked += 1
+    assert checked >= 20
+
+
 def test_vp_inside_a_panel_is_marked():
     plan = make_plan("novice")
     vp = VanishingPoint(0, False, (250.0, 120.0), (1.0, 0.0))
