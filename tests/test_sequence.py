@@ -557,9 +557,10 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
     "straight" (a read-through: the mixer's bowl curves); other parts are not named there."""
     from h2s_print.templates import lookup
 
-    one = lookup("steps", "substep.round_sides").split("{")[0]  # "Join the two ellipses of "
+    one = lookup("steps", "substep.round_sides").split("{")[0]  # "Join the ellipses of "
     many = lookup("steps", "substep.round_sides_many").split("{")[0]
-    taper = lookup("steps", "substep.round_sides_taper").split("{")[0]
+    # (the tapered part's sentence starts alike: told by its end)
+    taper = lookup("steps", "substep.round_sides_taper").split("}")[-1]
     checked = tapered = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
@@ -571,14 +572,15 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
             if st.kind != "contour":
                 continue
             parts = [q for q in dict.fromkeys(s.part for s in st.strokes) if q not in traced]
-            said = [x for x in st.substeps if x.startswith(one) or x.startswith(many)]
+            said = [x for x in st.substeps if (x.startswith(one) or x.startswith(many))
+                    and not x.endswith(taper)]
             # (a cylinder whose side lines the drawing hides is not joined: the next test)
             round_ = [p for p in parts if plan.primitive(p).type == "cylinder"
                       and seq_geometry._round(plan.primitive(p)) and ctx.sides_show(p)]
             assert len(said) == (1 if round_ else 0), (name, st.substeps)
             cones = [p for p in parts if plan.primitive(p).type == "frustum"
                      and seq_geometry._round(plan.primitive(p))]
-            along = [x for x in st.substeps if x.startswith(taper)]
+            along = [x for x in st.substeps if x.endswith(taper)]
             assert len(along) == (1 if cones else 0), (name, st.substeps)
             for x in along:
                 assert all(ctx.say(p) in x for p in cones) and "straight" not in x
