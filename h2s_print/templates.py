@@ -51,7 +51,7 @@ def _folder() -> Path:
 FIELDS: dict[str, frozenset[str]] = {
     "steps": frozenset((
         "Part", "Parts", "about", "amount", "beyond", "counts", "dim", "dims", "directions",
-        "edge", "edges", "end", "face", "faces", "first", "fraction", "half", "hi", "index",
+        "edge", "edges", "end", "face", "faces", "first", "fraction", "fractions", "half", "hi", "index",
         "kind", "label", "large", "line", "line2", "lines", "lines2", "lo", "n", "near", "new",
         "nth", "other", "other2", "parent", "part", "parts", "point", "point2", "points",
         "position", "pside", "psides", "reused", "second", "shape", "shift", "side", "sides",

@@ -299,6 +299,36 @@ def _anchor(axis, end, parent, ratio, face_normal, side="lo"):
     return Anchor(axis, end, parent, ratio, entry_for(ratio).guide_lines, face_normal, side)
 
 
+def test_both_ends_of_an_axis_on_one_parent_are_said_at_once(examples):
+    """Ratio words (a master's) and a part placed by eye say both ends of an axis at once
+    where they sit on one parent: inside it ("its front and back at a quarter and three
+    quarters of the body's depth (from the body's front)") or from one of its sides out
+    beyond it ("its width half a body width to the left of the body's left side"); said
+    apart, a master step of an unseen model ran to 85 words and a part by eye to 106."""
+    from h2s_print.sequence import words as seq_words
+
+    t, plan, views = examples["camera"]
+    words = seq_context._context(plan, t.views[0], t.paper, t.sequence).words
+    body = plan.chosen()["body"].id
+    inside = [_anchor(1, "lo", body, 0.25, 0), _anchor(1, "hi", body, 0.75, 0)]
+    outside = [_anchor(0, "hi", body, 0.0, 1), _anchor(0, "lo", body, -0.5, 1)]
+    other = [_anchor(2, "lo", body, 1.0, 2)]
+    name = lambda a: "body"  # noqa: E731
+    for said in (seq_words._ratio_phrases(words, inside + outside + other, name),
+                 seq_words._positions(words, inside + outside + other, name, True)):
+        assert len(said) == 3, said
+        assert "a quarter and three quarters" in said[0]
+        assert said[0].count(words.side(1, "lo")) == 2 and words.side(1, "hi") in said[0]
+        assert (words.dim(0) in said[1] and "half a body" in said[1]
+                and words.beyond(0, "lo") in said[1] and words.side(0, "lo") in said[1])
+        assert words.side(0, "hi") not in said[1]
+    # not merged: ends on two parents, or an extension beyond the other side
+    lens = plan.chosen()["lens"].id
+    apart = [_anchor(1, "lo", body, 0.25, 0), _anchor(1, "hi", lens, 0.75, 0),
+             _anchor(0, "hi", body, 0.0, 1), _anchor(0, "lo", body, 1.5, 1)]
+    assert len(seq_words._ratio_phrases(words, apart, name)) == 4
+
+
 def test_big_part_before_a_nearer_small_unrelated_one():
     # Both hang off the body and are ready after step 1: the small knob sits on the body's
     # front (nearest to the camera), the big tank stands against its right side, further
@@ -1940,7 +1970,7 @@ def test_a_master_s_fraction_of_a_parent_is_counted_from_the_end_it_names(exampl
     fractions = {v: k for k, v in lookup("steps", "primitive.fractions").items()}
     value = {"quarter": 0.25, "third": 1 / 3, "half": 0.5, "two-thirds": 2 / 3,
              "three-quarters": 0.75}
-    checked = 0
+    checked = both = 0
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
         for view in t.views:
@@ -1954,19 +1984,26 @@ def test_a_master_s_fraction_of_a_parent_is_counted_from_the_end_it_names(exampl
                                      r"(width|depth|height) \(from the [a-z0-9 ]+?'s ([a-z ]+?)\)",
                                      s.text):
                     side, frac, parent, _, start = m.groups()
-                    if side not in sides or start not in sides or parent not in said:
+                    # both ends of an axis said at once: "its left side and right side at a
+                    # quarter and three quarters of ..." (each side its fraction, in order)
+                    pairs = list(zip(side.split(" and "), frac.split(" and ")))
+                    if len(pairs) != len(side.split(" and ")) or any(
+                            sd not in sides for sd, _ in pairs) or start not in sides \
+                            or parent not in said:
                         continue
-                    (axis, end), (axis2, end2) = sides[side], sides[start]
-                    assert axis == axis2
-                    plo, phi = chosen[said[parent]].box
-                    from_end = plo[axis] if end2 == "lo" else phi[axis]
-                    other = phi[axis] if end2 == "lo" else plo[axis]
-                    want = from_end + value[fractions[frac]] * (other - from_end)
-                    got = chosen[s.part].box[0 if end == "lo" else 1][axis]
-                    assert abs(got - want) <= 1e-6 * max(1.0, abs(phi[axis] - plo[axis])), (
-                        name, view.name, s.index, m.group(0))
-                    checked += 1
-    assert checked
+                    both += len(pairs) == 2
+                    for side, frac in pairs:
+                        (axis, end), (axis2, end2) = sides[side], sides[start]
+                        assert axis == axis2
+                        plo, phi = chosen[said[parent]].box
+                        from_end = plo[axis] if end2 == "lo" else phi[axis]
+                        other = phi[axis] if end2 == "lo" else plo[axis]
+                        want = from_end + value[fractions[frac]] * (other - from_end)
+                        got = chosen[s.part].box[0 if end == "lo" else 1][axis]
+                        assert abs(got - want) <= 1e-6 * max(1.0, abs(phi[axis] - plo[axis])), (
+                            name, view.name, s.index, m.group(0))
+                        checked += 1
+    assert checked and both >= 4
 
 
 def test_a_tutorial_ends_by_erasing_its_scaffold_and_no_other_step_says_so(examples):
@@ -2887,6 +2924,10 @@ def test_the_one_face_a_part_lies_on_is_said_in_its_headline(examples):
     assert lens.headline.startswith("Lens: a box on the body's front face.")
     assert "Make its height the same as its width." in lens.substeps
     assert said >= 20
+    # a master's ratio words do not say it again ("its back in line with the body's front")
+    master = next(s for s in views[("front-left", "master")].steps if s.part == "lens")
+    assert master.headline == lens.headline and "the body's front" not in master.summary
+    assert "a quarter and three quarters of the body's width" in master.summary
 
 
 def _along_box_edge(p, q, box, tol) -> bool:

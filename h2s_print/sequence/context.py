@@ -101,7 +101,7 @@ from .words import (
     _guides_of,
     _join,
     _plural,
-    _position,
+    _positions,
     _ratio_phrases,
     _ratio_words,
     _raw,
@@ -1076,7 +1076,9 @@ class _Context(_Repeats, _Ellipses):
                 else self.floor_foot(part, drawn))
         floor_z = None if foot is None else float(cand.box[0][2])
         flat: list[Spec] = []
-        on_faces: dict[str, list[tuple[str, str]]] = {}  # parent -> (side, face name)
+        # parent -> (side, face name, axis, flush, anchor)
+        on_faces: dict[str, list[tuple[str, str, int, bool, Any]]] = {}
+        contact_of: dict[Spec, list[Any]] = {}  # a sentence placing sides on faces: anchors
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
         for anchor in cand.anchors:
             parent = self.by_id[anchor.parent]
@@ -1088,7 +1090,7 @@ class _Context(_Repeats, _Ellipses):
                 pend = "lo" if anchor.ratio < 0.5 else "hi"
                 on_faces.setdefault(parent.part, []).append(
                     (words.side(anchor.axis, anchor.end), words.face(anchor.axis, pend),
-                     anchor.axis, anchor.end == pend))
+                     anchor.axis, anchor.end == pend, anchor))
                 continue
             face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan, self.camera,
                                                   self.tol, floor_z, foot)
@@ -1112,15 +1114,24 @@ class _Context(_Repeats, _Ellipses):
             pprim = self.plan.primitive(ppart)
             edge_axis = pprim.axis if pprim.type == "plane" else None
             for kind in ("on_edge", "on_plane", "in_line_face", "on_face"):
-                some = [(sd, nm) for sd, nm, ax, flush in pairs
+                some = [(sd, nm, an) for sd, nm, ax, flush, an in pairs
                         if kind == ("on_plane" if ax == edge_axis
                                     else "on_edge" if edge_axis is not None
                                     else "in_line_face" if flush else "on_face")]
                 if not some:
                     continue
-                sides, names = zip(*some)
+                sides, names, anchors = zip(*some)
                 flat.append(spec(kind + ("" if len(some) == 1 else "s"), sides=_join(sides),
                                  parent=self.say(ppart), faces=_join(names)))
+                contact_of[flat[-1]] = list(anchors)
+        # the one face of a drawn part it lies on, said in the headline ("Lens: a box on the
+        # body's front face.", not "from the body" and "Its back lies on the body's front
+        # face.": the sentence's words went to the sizes it had no room for, the lens's
+        # "Make its height the same as its width", a read-through); a master's ratio words
+        # then leave it out too ("its back in line with the body's front")
+        lies_on = [x for x in flat if x.key == "on_face"]
+        lies = dict(lies_on[0].fields) if len(lies_on) == 1 else None
+        contact = contact_of[lies_on[0]] if lies is not None else []
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
@@ -1159,8 +1170,8 @@ class _Context(_Repeats, _Ellipses):
         summary = _cap(_join(_ratio_phrases(words, cand.anchors, self.parent_name)
                              + self.lined_up(unguided))) + "."
         if eyeball:
-            specs = [spec("position", position=_position(words, a, self.parent_name(a), True))
-                     for a in cand.anchors]
+            specs = [spec("position", position=x)
+                     for x in _positions(words, cand.anchors, self.parent_name, True)]
             head = _t("headline.eyeball", Part=_cap(name), shape=shape) + note
 
             def eyeballed(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
@@ -1480,14 +1491,11 @@ class _Context(_Repeats, _Ellipses):
                 units[("carry", k)] = u
         if floor is not None:
             units[("floor", 0)] = floor
-        # the one face of a drawn part it lies on, said in the headline ("Lens: a box on the
-        # body's front face.", not "from the body" and "Its back lies on the body's front
-        # face.": the sentence's words went to the sizes it had no room for, the lens's
-        # "Make its height the same as its width", a read-through)
-        lies_on = [x for x in flat if x.key == "on_face"]
-        on = dict(lies_on[0].fields) if len(lies_on) == 1 else None
-        if on is not None:
+        if lies is not None:
             flat.remove(lies_on[0])
+            summary = _cap(_join(_ratio_phrases(
+                words, [a for a in cand.anchors if a not in contact], self.parent_name)
+                + self.lined_up(unguided))) + "."
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
             if anchor.end == "mid":                       # straddles a line
@@ -1526,14 +1534,14 @@ class _Context(_Repeats, _Ellipses):
                        else spec("place" + there, shape=placed)] + taper + copies)
 
         closing = closing_with([])
-        if on is None:
+        if lies is None:
             head = _t("headline.anchored", Part=_cap(name), shape=shape,
                       the_parents=parents) + note
         else:
             others = [n for n in _unique(self.parent_name(a) for a in cand.anchors)
-                      if n != on["parent"]]
+                      if n != lies["parent"]]
             head = _t("headline.on_face_from" if others else "headline.on_face",
-                      Part=_cap(name), shape=shape, parent=on["parent"], face=on["faces"],
+                      Part=_cap(name), shape=shape, parent=lies["parent"], face=lies["faces"],
                       the_others=_join([_the(x) for x in others])) + note
         def guides_head(group: list[_Unit], n: int = 0, total: int = 1) -> str:
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])

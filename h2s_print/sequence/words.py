@@ -193,6 +193,93 @@ def _ratio_words(words: _Words, anchor: Any, parent: str) -> str:
               dim=words.dim(axis), pside=words.side(axis, end), beyond=words.beyond(axis, end))
 
 
+def _inside_pairs(anchors: Sequence[Any]) -> dict[int, int]:
+    """Both ends of an axis placed inside one parent's extent (a fraction of it each: "its
+    left side at a quarter ..., its right side at two thirds ..."), by the index of the first
+    of the two in ``anchors``: the other's index."""
+    def inside(a: Any) -> bool:
+        entry = entry_for(a.ratio)
+        return (a.end != "mid" and a.face_normal != a.axis and not entry.in_line
+                and not entry.extrusion)
+
+    out: dict[int, int] = {}
+    taken: set[int] = set()
+    for i, a in enumerate(anchors):
+        if i in taken or not inside(a):
+            continue
+        k = next((k for k, b in enumerate(anchors) if k > i and k not in taken and inside(b)
+                  and b.axis == a.axis and b.parent == a.parent and {a.end, b.end} == {"lo", "hi"}),
+                 None)
+        if k is not None:
+            out[i] = k
+            taken.update((i, k))
+    return out
+
+
+def _outside_pairs(anchors: Sequence[Any]) -> dict[int, tuple[int, int]]:
+    """An axis whose one end is in line with a side of the parent and whose other end lies
+    beyond that same side by an extrusion ("its right side in line with part 7's left side,
+    its left side half a part 7 width to the left of part 7's left side"): by the index of the
+    first of the two in ``anchors``, (the extrusion's index, the in-line one's)."""
+    out: dict[int, tuple[int, int]] = {}
+    taken: set[int] = set()
+    for i, a in enumerate(anchors):
+        for k, b in enumerate(anchors):
+            if (k == i or i in taken or k in taken or b.axis != a.axis or b.parent != a.parent
+                    or {a.end, b.end} != {"lo", "hi"} or "mid" in (a.end, b.end)
+                    or a.face_normal == a.axis or b.face_normal == b.axis):
+                continue
+            ea, eb = entry_for(a.ratio), entry_for(b.ratio)
+            if not (ea.in_line and eb.extrusion):
+                continue
+            side = "lo" if a.ratio < 0.5 else "hi"  # the parent's side both ends are on
+            if (b.ratio < 0) != (side == "lo") or a.end == side:
+                continue
+            first = min(i, k)
+            out[first] = (k, i)
+            taken.update((i, k))
+    return out
+
+
+def _outside(words: _Words, key: str, ext: Any, parent: str, about: str = "") -> str:
+    """An axis from a side of ``parent`` out beyond it by extrusion ``ext``, said at once
+    (``key``: ``ratio_words.outside`` or ``primitive.position.outside``): "its width half a
+    part 7 width to the left of part 7's left side"."""
+    end = "lo" if ext.ratio < 0 else "hi"
+    return _t(key, dim=words.dim(ext.axis), amount=_extension(entry_for(ext.ratio)),
+              parent=parent, pside=words.side(ext.axis, end), beyond=words.beyond(ext.axis, end),
+              about=about)
+
+
+def _both_inside(words: _Words, key: str, a: Any, b: Any, parent: str, about: str = "") -> str:
+    """Both ends of an axis inside ``parent`` said at once, the lower end first (``key``:
+    ``ratio_words.inside_both`` or ``primitive.position.inside_both``): "its left side and
+    right side at a quarter and two thirds of part 7's width (from part 7's left side)"
+    (each said apart, a master's step of an unseen model ran to 85 words)."""
+    lo, hi = (a, b) if a.end == "lo" else (b, a)
+    fractions = _raw("primitive.fractions")
+    return _t(key, sides=_join([words.side(lo.axis, "lo"), words.side(lo.axis, "hi")]),
+              fractions=_join([fractions[entry_for(x.ratio).name] for x in (lo, hi)]),
+              parent=parent, dim=words.dim(lo.axis), about=about,
+              lo=words.side(lo.axis, "lo"), hi=words.side(lo.axis, "hi"))
+
+
+def _positions(words: _Words, anchors: Sequence[Any], name_of: Callable[[Any], str],
+               about: bool) -> list[str]:
+    """:func:`_position` of each anchor, both ends of an axis inside one parent said at once
+    (:func:`_both_inside`)."""
+    pairs = _inside_pairs(anchors)
+    outside = _outside_pairs(anchors)
+    second = set(pairs.values()) | {k for pair in outside.values() for k in pair} - set(outside)
+    ab = _raw("about") if about else ""
+    return [_both_inside(words, "primitive.position.inside_both", a, anchors[pairs[i]],
+                         name_of(a), ab) if i in pairs
+            else _outside(words, "primitive.position.outside", anchors[outside[i][0]],
+                          name_of(a), ab) if i in outside
+            else _position(words, a, name_of(a), about)
+            for i, a in enumerate(anchors) if i not in second]
+
+
 def _ratio_phrases(words: _Words, anchors: Sequence[Any],
                    name_of: Callable[[Any], str]) -> list[str]:
     """:func:`_ratio_words` of each anchor (``name_of(anchor)``: its parent part's name, as
@@ -212,8 +299,20 @@ def _ratio_phrases(words: _Words, anchors: Sequence[Any],
                 and a.end == ("lo" if a.ratio < 0.5 else "hi")):
             same.setdefault(a.parent, []).append(i)
     first = {ids[0]: ids for ids in same.values() if len(ids) > 1}
+    pairs = _inside_pairs(anchors)
+    outside = _outside_pairs(anchors)
     for i, a in enumerate(anchors):
         if i in done:
+            continue
+        if i in pairs:  # both ends inside the parent: said at once
+            done.add(pairs[i])
+            out.append(_both_inside(words, "ratio_words.inside_both", a, anchors[pairs[i]],
+                                    name_of(a)))
+            continue
+        if i in outside:  # from a side of the parent out beyond it: said at once
+            done.update(outside[i])
+            out.append(_outside(words, "ratio_words.outside", anchors[outside[i][0]],
+                                name_of(a)))
             continue
         if i in first:
             done.update(first[i])
