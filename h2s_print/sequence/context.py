@@ -1540,7 +1540,11 @@ class _Context(_Repeats, _Ellipses):
         else:
             others = [n for n in _unique(self.parent_name(a) for a in cand.anchors)
                       if n != lies["parent"]]
-            head = _t("headline.on_face_from" if others else "headline.on_face",
+            # on a top face, under a bottom face, against a side (a read-through took the
+            # mixer's bowl "on the column's front face" for standing on it)
+            a = contact[0]  # (the parent's face: its hi end where the ratio is 1)
+            where = "against" if a.axis != 2 else "on" if a.ratio >= 0.5 else "under"
+            head = _t(f"headline.{where}_face" + ("_from" if others else ""),
                       Part=_cap(name), shape=shape, parent=lies["parent"], face=lies["faces"],
                       the_others=_join([_the(x) for x in others])) + note
         def guides_head(group: list[_Unit], n: int = 0, total: int = 1) -> str:
