@@ -2785,9 +2785,10 @@ def _on_line3(p, a, b, tol=1e-6):
 
 
 def test_a_flat_rectangles_sides_are_its_edges(shared_models):
-    """A part lined up with a flat rectangle's side lies on its edge, not its "face": the IVAR
-    box's panels read "lie on part 1's right, left and bottom faces" of its flat base (a
-    read-through).  Each edge named is an edge of the flat part: the face across its plane."""
+    """A part lined up with a flat rectangle's side is in line with its edge, not on its
+    "face": the IVAR box's panels read "lie on part 1's right, left and bottom faces" of its
+    flat base, then "lie on part 1's right and left edges" (read-throughs).  Each edge named is
+    an edge of the flat part: the face across its plane."""
     from h2s_print import sequence as seq
     from h2s_print.config import load_tutorial
     from h2s_print.plan import build_plan
@@ -2807,9 +2808,13 @@ def test_a_flat_rectangles_sides_are_its_edges(shared_models):
                     for a in range(3) if a != normal for e in ("lo", "hi")}
         for s in vp.steps:
             for x in s.substeps:
-                m = re.fullmatch(r"Its .+ lies? on (.+?)'s (.+) (edges?|faces?)\.", x)
+                m = re.fullmatch(r"(?:Its .+ lies? on|Line up its .+ with) (.+?)'s (.+) "
+                                 r"(edges?|faces?)\.", x)
                 if m is None or m.group(1) not in flat:
                     continue
+                # in line with the edges: "lie on part 1's right and left edges" put a panel
+                # along one edge (a read-through)
+                assert x.startswith("Line up") == m.group(3).startswith("edge"), x
                 named = re.split(r", | and ", m.group(2))
                 across = [w for w in named if w in flat[m.group(1)]]
                 assert across, x  # a face along its plane is not named a face
