@@ -2571,7 +2571,7 @@ def test_a_copy_moved_along_one_axis_says_where_on_it(shared_models):
                 assert min(abs(mid - f) for f in faces) < 1e-6, x
                 assert abs(first[:, k].mean() - mid) > 1e-6, x
                 said += 1
-    assert said >= 2  # the second side panel in both views (the third step has no room)
+    assert said >= 4  # two copies in each of two views
 
 
 def test_a_line_from_an_earlier_step_is_named_as_that_step_named_it(examples):
@@ -2799,6 +2799,8 @@ def test_a_flat_rectangles_sides_are_its_edges(shared_models):
     checked = plain = 0
     for view in t.views:
         vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        ctx = seq_context._context(plan, view, t.paper, t.sequence)
+        sides = {ctx.words.side(a, e): (a, e) for a in range(3) for e in ("lo", "hi")}
         flat = {}  # a flat part's name -> the face words across its plane (its edges)
         for s in vp.steps:
             if s.kind == "primitive" and plan.primitive(s.part).type == "plane":
@@ -2828,7 +2830,19 @@ def test_a_flat_rectangles_sides_are_its_edges(shared_models):
                 m = re.fullmatch(r"Its .+ lies? on (.+?)\.", x)
                 if m is not None and m.group(1) in flat:
                     plain += 1
-    assert checked >= 2 and plain >= 2
+            # each side in line with the flat part's edge of its name: "Line up its right side
+            # and left side with part 1's." (on the boxes)
+            for x in s.substeps:
+                m = re.fullmatch(r"Line up its (.+) with (.+?)'s\.", x)
+                if m is None or m.group(2) not in flat:
+                    continue
+                other = next(q for q in plan.chosen() if ctx.say(q) == m.group(2))
+                box, obox = (np.asarray(plan.chosen()[q].box) for q in (s.part, other))
+                for sd in re.split(r", | and ", m.group(1)):
+                    a, e = sides[sd]
+                    assert abs(box[int(e == "hi"), a] - obox[int(e == "hi"), a]) < 1e-6, x
+                    checked += 1
+    assert checked >= 4 and plain >= 2
 
 
 def test_a_flat_first_part_is_its_footprint(shared_models, examples):

@@ -1114,15 +1114,18 @@ class _Context(_Repeats, _Ellipses):
             pprim = self.plan.primitive(ppart)
             edge_axis = pprim.axis if pprim.type == "plane" else None
             for kind in ("on_edge", "on_plane", "in_line_face", "on_face"):
-                some = [(sd, nm, an) for sd, nm, ax, flush, an in pairs
+                some = [(sd, nm, an, flush) for sd, nm, ax, flush, an in pairs
                         if kind == ("on_plane" if ax == edge_axis
                                     else "on_edge" if edge_axis is not None
                                     else "in_line_face" if flush else "on_face")]
                 if not some:
                     continue
-                sides, names, anchors = zip(*some)
-                flat.append(spec(kind + ("" if len(some) == 1 else "s"), sides=_join(sides),
-                                 parent=self.say(ppart), faces=_join(names)))
+                sides, names, anchors, flushes = zip(*some)
+                key = kind + ("" if len(some) == 1 else "s")
+                if key == "on_edges" and all(flushes):  # each side at its namesake edge: "Line
+                    key = "in_line_faces"  # up its right side and left side with part 1's."
+                flat.append(spec(key, sides=_join(sides), parent=self.say(ppart),
+                                 faces=_join(names)))
                 contact_of[flat[-1]] = list(anchors)
         # the one face of a drawn part it lies on, said in the headline ("Lens: a box on the
         # body's front face.", not "from the body" and "Its back lies on the body's front
