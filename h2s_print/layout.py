@@ -1340,12 +1340,20 @@ def _compares_sizes(plan: ViewPlan) -> bool:
     """Does a sub-step of ``plan`` compare a size with a part drawn before ("Make its width
     about three quarters of the engine's") or with another of its own ("Make its height the
     same as its depth", a read-through: a guess not said to be one): ``steps.yaml``'s
-    ``substep.size*``?"""
-    pattern = re.compile("|".join(
-        re.sub(r"\\\{[a-z_0-9]+\\\}", ".+",
-               re.escape(templates.lookup("steps", f"substep.{k}")))
-        for k in ("size", "size_many", "size_round", "size_same")))
-    return any(pattern.search(x) for st in plan.steps for x in st.substeps)
+    ``substep.size*``; or do a master's ratio words place a part at a fraction or a multiple of
+    another's size ("at a quarter of the body's width")?"""
+    def said(keys: Sequence[str]) -> re.Pattern[str]:
+        return re.compile("|".join(re.sub(r"\\\{[a-z_0-9]+\\\}", ".+",
+                                          re.escape(templates.lookup("steps", k)))
+                                   for k in keys), re.IGNORECASE)
+
+    sizes = said([f"substep.{k}" for k in ("size", "size_many", "size_round", "size_same")])
+    # a master's ratio words: fractions and multiples of a part's size (a read-through of
+    # the master workbooks found the primer's warning missing there)
+    ratios = said([f"ratio_words.{k}" for k in ("inside", "inside_both", "middle", "extend",
+                                                "extend_both", "outside")])
+    return any(sizes.search(x) for st in plan.steps for x in st.substeps) or any(
+        ratios.search(st.summary) for st in plan.steps if st.summary)
 
 
 def _primer_intro(plan: ViewPlan) -> str:
