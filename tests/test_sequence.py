@@ -607,9 +607,12 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
             # (a cylinder whose side lines the drawing hides is not joined: the next test)
             round_ = [p for p in parts if plan.primitive(p).type == "cylinder"
                       and seq_geometry._round(plan.primitive(p)) and ctx.sides_show(p)]
+            # (a cylinder whose sides bulge or taper: along the sides, as a tapered part)
+            curved = [p for p in round_ if not ctx.straight_sides(p)]
+            round_ = [p for p in round_ if p not in curved]
             assert len(said) == (1 if round_ else 0), (name, st.substeps)
             cones = [p for p in parts if plan.primitive(p).type == "frustum"
-                     and seq_geometry._round(plan.primitive(p))]
+                     and seq_geometry._round(plan.primitive(p))] + curved
             along = [x for x in st.substeps if x.endswith(taper)]
             assert len(along) == (1 if cones else 0), (name, st.substeps)
             for x in along:
@@ -622,6 +625,31 @@ def test_an_outline_step_says_to_join_a_round_parts_ellipses(examples):
             assert all(ctx.say(p) not in " ".join(said) for p in parts if p not in round_)
             checked += len(named)
     assert checked and tapered
+
+
+def test_a_cylinder_with_curved_sides_is_joined_along_the_picture(examples):
+    """The roller's handle, fitted as a cylinder, bulges and tapers (its grip): its outline
+    step joins its ellipses "along the sides the picture shows", not "with two straight
+    lines" (a read-through: the picture drew a curved grip).  Checked on its mesh: its ends
+    are narrower than its widest ring by more than a tenth; the camera's lens is straight."""
+    from h2s_print.sequence.camera import _adjusted_parts
+
+    t, plan, views = examples["roller"]
+    mesh = np.asarray(_adjusted_parts(plan)["handle"].vertices, float)
+    axis = plan.primitive("handle").axis
+    box = np.asarray(plan.chosen()["handle"].box, float)
+    u, w = (k for k in range(3) if k != axis)
+    radius = np.hypot(mesh[:, u] - box[:, u].mean(), mesh[:, w] - box[:, w].mean())
+    end = np.abs(mesh[:, axis] - box[0, axis]) < 0.05 * (box[1, axis] - box[0, axis])
+    assert radius[end].max() < 0.9 * radius.max()  # the premise: a narrow end
+    for view in t.views:
+        said = [x for s in views[(view.name, "novice")].steps for x in s.substeps
+                if "the handle" in x and ("Join" in x or "join" in x)]
+        assert said and all("along the sides the picture shows" in x for x in said), said
+    t, plan, views = examples["camera"]
+    said = [x for s in views[("front-left", "novice")].steps for x in s.substeps
+            if "the lens" in x and ("Join" in x or "join" in x)]
+    assert said and all("straight lines" in x for x in said), said
 
 
 def test_units_touch_when_they_share_a_line_end_or_a_result_end():

@@ -27,6 +27,10 @@ from .geometry import (
 from .hiding import _front_to_back
 from .words import _cap, _join, _t, _the
 
+#: A cylinder's sides are straight where each tenth of its length reaches this fraction of
+#: its largest radius (:meth:`_Ellipses.straight_sides`).
+STRAIGHT_SIDES = 0.9
+
 
 #: Distinct shapes (a part and its copies count once) traced in one outline step, at most.
 OUTLINE_SHAPES = 3
@@ -340,6 +344,28 @@ class _Ellipses:
             out.append(d)
         return [self.round_sides(d, lead) for d in out]
 
+    def straight_sides(self, part: str) -> bool:
+        """Are cylinder ``part``'s sides straight: does every tenth of its length (along its
+        axis, on the selected box) that holds vertices of its adjusted mesh reach within
+        :data:`STRAIGHT_SIDES` of its largest radius?  A tenth whose vertices all lie further
+        in is a waist or a taper the outline follows (the roller's handle, a bulging grip:
+        "Join the two ellipses ... with two straight lines" while the picture drew a
+        curved grip, a read-through)."""
+        prim, box = self.plan.primitive(part), np.asarray(self.chosen[part].box, dtype=float)
+        axis = prim.axis
+        v = np.asarray(self.adjusted[part].vertices, dtype=float)
+        u, w = (k for k in range(3) if k != axis)
+        centre = box.mean(axis=0)
+        r = np.hypot(v[:, u] - centre[u], v[:, w] - centre[w])
+        length = float(box[1, axis] - box[0, axis])
+        if not len(v) or length <= 0.0 or float(r.max()) <= 0.0:
+            return True
+        at = np.clip(((v[:, axis] - box[0, axis]) / length * 10).astype(int), 0, 9)
+        reach = np.zeros(10)
+        np.maximum.at(reach, at, r)
+        held = np.bincount(at, minlength=10) > 0
+        return bool(np.all(reach[held] >= STRAIGHT_SIDES * float(r.max())))
+
     def sides_show(self, part: str) -> bool:
         """Does the finished drawing show a side line of cylinder ``part``: visible line
         along its axis over a third of its length, in all?  (A read-through of stop 27: the pins
@@ -362,10 +388,13 @@ class _Ellipses:
         say to draw them); one sentence for the step's cylinders, after their ellipses,
         before the tracing, and one for its tapered round parts, whose sides follow the
         picture (a read-through: the mixer's bowl curves, "two straight lines" did not)."""
-        rounds = [q for q in d.group if _round(self.plan.primitive(q))
-                  and self.plan.primitive(q).type == "cylinder" and self.sides_show(q)]
+        cylinders = [q for q in d.group if _round(self.plan.primitive(q))
+                     and self.plan.primitive(q).type == "cylinder" and self.sides_show(q)]
+        rounds = [q for q in cylinders if self.straight_sides(q)]
+        # (a cylinder whose sides are not straight: along the sides the picture shows)
         tapers = [q for q in d.group if _round(self.plan.primitive(q))
-                  and self.plan.primitive(q).type == "frustum"]
+                  and self.plan.primitive(q).type == "frustum" or q in cylinders
+                  and q not in rounds]
         joins: list[Spec] = []
         if rounds:
             leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))
