@@ -1779,6 +1779,19 @@ def test_a_cited_line_says_the_side_it_places_and_lies_in_that_sides_plane(examp
     assert checked
 
 
+def test_citations_say_what_they_place_as_far_as_the_words_allow(examples):
+    """A placing step's citations say what each line places where the step keeps within its
+    words, one by one, not all or none: the mixer's bowl read "Use ST from step 3. Use UV from
+    step 4." (all of them said would have taken it four words over the limit)."""
+    t, plan, views = examples["mixer"]
+    for view in t.views:
+        bowl = next(s for s in views[(view.name, "novice")].steps
+                    if s.part == "bowl" and s.kind == "primitive")
+        uses = [x for x in bowl.substeps if x.startswith("Use ")]
+        assert any(" for its " in x for x in uses), bowl.substeps
+        assert len(bowl.text.split()) <= seq_drafts.MAX_STEP_WORDS
+
+
 def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples):
     """A step that draws "wheel 1, wheel 3, wheel 5 and wheel 7" labels each on its picture
     (a read-through asked which wheel was which), at its box's centre."""

@@ -1610,9 +1610,18 @@ class _Context(_Repeats, _Ellipses):
         # back."), as a line from a guides step does
         own_for = _edges_together([_edge_for(x, u.anchors, self.anchor_side, cand.box)
                                    if x.key == "edge" else x for u, x in owned])
-        mine = _citations(groups[:-1], step, self.anchor_side, cand.box) + own_for
+        saying = _citations(groups[:-1], step, self.anchor_side, cand.box)
+        mine = saying + own_for
         if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
-            mine = _citations(groups[:-1], step) + own  # what they place: only if it fits
+            # what they place only if it fits: citation by citation, in order, where the
+            # step keeps within its words (the mixer's bowl read "Use ST from step 3. Use UV
+            # from step 4." for sides all said would have taken it four words over)
+            mine = _citations(groups[:-1], step) + own
+            if len(saying) + len(own) == len(mine):
+                for i, x in enumerate(saying):
+                    trial = mine[:i] + [x] + mine[i + 1:]
+                    if self.step_words(trial + closing_with([]), head) <= MAX_STEP_WORDS:
+                        mine = trial
         specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes, part, loose)
         if unplaced:  # "as pictured" where the step has room left for it: it never splits a
             # step (packing counts the closing without it) nor displaces a size sentence
