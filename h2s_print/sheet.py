@@ -864,11 +864,11 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
                 out.append(Polyline((p, q), "black", 0.3, (), False, "vp_tick"))
                 out.append(replace(tx, string=f"{prefix}{n}"))
         if n:
-            named.append(f"{prefix}1" if n == 1 else
-                         _t("sheet.ticks_range", first=f"{prefix}1", last=f"{prefix}{n}"))
-    if named:  # what the ticks are for, in the top band at the right
+            named.append(f"{prefix}1")
+    if named:  # what the ticks are for, in the top band at the right, by one pair's name (a
+        # read-through took a list "R1-R2, L1-L2" for lines to draw from R1 to R2)
         m = frame[1]
-        line = _t("sheet.ticks", names=", ".join(named))
+        line = _t("sheet.ticks", example=named[0])
         out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.5 * w, 7),
                         "Helvetica", "end", "black", "vp_tick_legend"))
     return out

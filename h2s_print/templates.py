@@ -58,7 +58,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "small", "start", "step", "text", "the_other", "the_others", "the_parent", "the_parents", "the_part",
         "through", "total", "turns", "vp", "vp2", "vp3", "where", "words")),
     "pages": frozenset((
-        "corner", "distance", "dx", "dy", "edges", "first", "full", "hdir", "index", "label",
+        "corner", "distance", "dx", "dy", "edges", "example", "first", "full", "hdir", "index", "label",
         "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part", "title",
         "vdir", "view", "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),

@@ -952,7 +952,8 @@ def test_sheet_ticks_of_one_name_lie_on_a_line_through_their_vanishing_point(exa
     line through a pair's two frame points passes through that vanishing point, so a ruler
     laid through them draws toward it with no taped-on paper (the read-throughs: the
     camera's right vanishing point is 392 mm off, the roller's left one 859 mm).  Each name
-    is used twice, on the frame's border, and the sheet says what the ticks are for."""
+    is used twice, on the frame's border, and the sheet says what the ticks are for, by one
+    pair ("the two marked R1"; a list "R1-R2" a read-through took for a line to draw)."""
     pairs = 0
     for name, view, t, vp, sheet in _novice_sheets(examples):
         frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
@@ -985,6 +986,11 @@ def test_sheet_ticks_of_one_name_lie_on_a_line_through_their_vanishing_point(exa
         # had none: each of the first seven lines had a tick on that point's own label)
         if legend:
             assert marked == set(range(len(far))), (name, view)
+            # the legend names one pair as its example, never a range of names ("R1-R2" read
+            # as a line from R1 to R2)
+            said = " ".join(it.string for it in legend)
+            assert any(re.search(rf"(?<![A-Z0-9-]){n}(?![0-9-])", said) for n in ticks), said
+            assert not re.search(r"[A-Z][0-9]+-[A-Z]?[0-9]", said), said
         # ticks keep apart, and no name lies on another's tick (the camera's L1 and R5 were
         # 3 mm apart, each name beside the other's tick)
         segs = [it for it in items if isinstance(it, L.Polyline) and it.role == "vp_tick"]
