@@ -815,9 +815,11 @@ def test_step_one_shows_the_lines_the_sheet_prints(examples):
                         lookup("steps", "substep.on_floor_eye"))
             on_line = lookup("steps", "substep.on_floor_line").split("{")[0]
             side = lookup("steps", "substep.floor_side").split("}")[-1]  # " stands on it."
+            # (a line drawn from the floor line's foot: the floor under the roller's handle)
+            foot = lookup("steps", "substep.floor_line").split("}")[1].split("{")[0]
             assert {i for i, g in floor if i != first} == {
                 i for i, st in enumerate(vp.steps) if any(
-                    x in on_floor or x.startswith(on_line) or x.endswith(side)
+                    x in on_floor or x.startswith(on_line) or x.endswith(side) or foot in x
                     for x in st.substeps)}
             if floor:
                 (_, g), = [(i, g) for i, g in floor if i == first]

@@ -3243,6 +3243,45 @@ def test_the_floor_under_a_part_is_constructed_from_the_floor_line(shared_models
     assert checked == 4  # two views, two levels
 
 
+def test_the_floor_under_a_hanging_part_s_middle_is_constructed(examples):
+    """The roller's handle hangs below the roller, centred both ways on it, and stands on the
+    floor: the floor under the point where its centring lines meet on the roller's bottom
+    face is constructed from the floor line's foot, ending at the middle of its bottom (it
+    read "Its bottom stands on the floor: judge where by eye", a read-through).  In 3D the
+    point named is under the meeting point, on the floor, the middle of the handle's box's
+    bottom; on the page it is where the last line crosses the vertical through it, redone in
+    2D from projected points; the handle's step then cites it, and does not judge."""
+    t, plan, views = examples["roller"]
+    box = np.asarray(plan.chosen()["handle"].box, float)
+    floor = min(c.box[0][2] for c in plan.chosen().values())
+    checked = 0
+    for level in ("novice", "apprentice"):
+        vp = views[("front-left", level)]
+        m = np.asarray(vp.camera.projection_mm, float)
+        for s in vp.steps:
+            at3 = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels}
+            at2 = {lb.name: np.asarray(lb.at_mm, float) for lb in s.labels}
+            for x in s.substeps:
+                got = re.match(r"From ([A-Z]'*),(?: the blue floor line's foot,)? draw "
+                               r"\1([A-Z]'*) .*: \2, below ([A-Z]'*), is the middle of its "
+                               r"bottom\.$", x)
+                if not got:
+                    continue
+                st, end, top = got.groups()
+                assert at3[end] == pytest.approx([*box[:, :2].mean(axis=0), floor], abs=1e-9)
+                assert at3[top][:2] == pytest.approx(at3[end][:2], abs=1e-9)
+                assert at3[top][2] > box[1][2]  # the meeting point, above the handle
+                d3 = at3[end] - at3[st]
+                p = _cross2(at2[st], _project(m, at3[st] + 3.0 * d3), at2[top],
+                            _project(m, at3[top] - np.array([0.0, 0.0, 1.0])))
+                assert np.linalg.norm(p - at2[end]) <= 0.05, (level, s.index, x)
+                checked += 1
+        handle = next(s for s in vp.steps if s.part == "handle" and s.kind == "primitive")
+        assert any(x.startswith("The middle of its bottom is ") for x in handle.substeps)
+        assert not any("judge where by eye" in x for x in handle.substeps), handle.substeps
+    assert checked == 2
+
+
 def _cross2(a, b, c, d):
     """Where the line a-b crosses the line c-d (2D)."""
     a, b, c, d = (np.asarray(v, float) for v in (a, b, c, d))

@@ -78,6 +78,7 @@ from .geometry import (
     _drawn_box,
     _extent,
     _floor_corner,
+    _floor_under,
     _Line,
     _mostly_on,
     _moving_axis,
@@ -332,8 +333,39 @@ class _Context(_Repeats, _Ellipses):
                   for a in cand.anchors if a.axis in (0, 1) and a.end in ("lo", "hi")]
         corner = _floor_corner(self.chosen[first].box, cand.box, *floor_line, eye, self.tol,
                                placed)
-        if corner is None:
+        return None if corner is None else self.floor_construction(first, corner)
+
+    def floor_middle_unit(self, part: str, drawn: Sequence[str], meet: Vec3,
+                          known: Sequence[tuple[Vec3, Vec3]] = ()) -> _Unit | None:
+        """The floor under the middle of ``part``'s bottom, for a part standing on the floor
+        (:meth:`on_floor`) whose top is anchored below the first
+        box and whose centring lines meet at ``meet`` on that box's bottom face (the roller's
+        handle: "Its bottom stands on the floor: judge where by eye" under a point the page
+        has): the construction of :meth:`floor_unit` under ``meet``
+        (:func:`~.geometry._floor_under`), ending at the middle of its bottom; a line of it
+        among ``known`` (the carries that meet there) is not drawn again.  None otherwise."""
+        if not self.on_floor(part, drawn):
             return None
+        cand, first = self.chosen[part], drawn[0]
+        fbox = self.chosen[first].box
+        if (not any(a.axis == 2 and a.end == "hi" for a in cand.anchors)
+                or abs(meet[2] - fbox[0][2]) > self.tol
+                or cand.box[1][2] > fbox[0][2] + self.tol):
+            return None
+        middle = [0.5 * (cand.box[0][k] + cand.box[1][k]) for k in (0, 1)]
+        if any(abs(meet[k] - middle[k]) > 10.0 * self.tol for k in (0, 1)):
+            return None
+        floor_line = self.floor_line(first)
+        if floor_line is None:
+            return None
+        corner = _floor_under(fbox, (float(meet[0]), float(meet[1])), *floor_line, self.tol)
+        return None if corner is None else self.floor_construction(first, corner, True, known)
+
+    def floor_construction(self, first: str, corner: Any, middle: bool = False,
+                           known: Sequence[tuple[Vec3, Vec3]] = ()) -> _Unit:
+        """The unit drawing ``corner`` (:class:`~.geometry._FloorCorner`) under the first box
+        ``first``: its bottom corner found (:meth:`floor_unit`), or with ``middle`` the middle
+        of its bottom (:meth:`floor_middle_unit`)."""
         Q, R, F, S, T = corner.Q, corner.R, corner.F, corner.S, corner.T
         a, b, moved_a, moved_b = corner.a, 1 - corner.a, corner.moved_a, corner.moved_b
         owner = self.say(first)
@@ -345,9 +377,11 @@ class _Context(_Repeats, _Ellipses):
         # edge draws nothing new)
         fbox = self.chosen[first].box
         along = moved_a and any(abs(Q[b] - fbox[e][b]) <= self.tol for e in (0, 1))
-        if moved_a and not along:
-            specs.append(spec("floor_over", line=Pts((Q, R)), point=Pts((Q,)),
-                              vp=words.vp(a, Q, R), parent=owner))
+        # (a line a carry drew already: the roller's handle's centring carry from L to Q)
+        drawn = any(_same_segment(Q, R, p, q, self.tol) for p, q in known)
+        if moved_a and not along and not drawn:
+            specs.append(spec("floor_over_point" if middle else "floor_over", line=Pts((Q, R)),
+                              point=Pts((Q,)), vp=words.vp(a, Q, R), parent=owner))
             out.append(_Line("vanishing", Q, R))
         result = (F, S)  # the line whose end is the bottom corner
         if moved_b:
@@ -355,8 +389,9 @@ class _Context(_Repeats, _Ellipses):
             # wrong once Q was the corner its placed sides meet, not the nearest one)
             specs.append(spec("floor_line", line=Pts((F, S)), point=Pts((F,)),
                               vp=words.vp(b, F, S), end=Pts((S,))) if moved_a else
-                         spec("floor_line_end", line=Pts((F, S)), point=Pts((F,)),
-                              vp=words.vp(b, F, S), end=Pts((S,)), through=Pts((Q,))))
+                         spec("floor_line_end" + ("_middle" if middle else ""),
+                              line=Pts((F, S)), point=Pts((F,)), vp=words.vp(b, F, S),
+                              end=Pts((S,)), through=Pts((Q,))))
             out.append(_Line("vanishing", F, S))
             if moved_a:
                 specs.append(spec("floor_drop_corner" if along else "floor_drop",
@@ -365,11 +400,12 @@ class _Context(_Repeats, _Ellipses):
                 out.append(_Line("vanishing", R, S))
         if moved_a:
             start = S if moved_b else F
-            specs.append(spec("floor_back", line=Pts((start, T)), point=Pts((start,)),
+            specs.append(spec("floor_back" + ("_middle" if middle else ""),
+                              line=Pts((start, T)), point=Pts((start,)),
                               vp=words.vp(a, start, T), end=Pts((T,)), through=Pts((Q,))))
             out.append(_Line("vanishing", start, T))
             result = (start, T)
-        return _Unit(first, specs, out, [result], floor=True)
+        return _Unit(first, specs, out, [result], floor=True, floor_middle=middle)
 
     def floor_leg(self, carry: Sequence[_Line], floor: float, foot: Vec3 | None
                   ) -> tuple[Vec3, Vec3] | None:
@@ -1144,6 +1180,13 @@ class _Context(_Repeats, _Ellipses):
         # its bottom on the floor, found from the floor line's foot (its height is then
         # constructed, not judged)
         floor = None if eyeball else self.floor_unit(part, drawn)
+        if floor is None and not eyeball:  # ... or the middle of its bottom, under the point
+            # where its centring lines meet on the first box's bottom face (the roller's handle)
+            meets = [c[0].end for anchor, _, _, _, _, c in built
+                     if anchor.end == "mid" and anchor.axis in (0, 1) and len(c) >= 2]
+            if len(meets) == 2 and _same_point(meets[0], meets[1], 10.0 * self.tol):
+                floor = self.floor_middle_unit(part, drawn, meets[0], [
+                    (ln.start, ln.end) for *_, c in built for ln in c])
         if floor is not None:
             loose = [a for a in loose if a != 2]
         # sizes judged by eye: compared with the parts it hangs off, then those it touches

@@ -161,8 +161,8 @@ def _citations(groups: Sequence[Sequence[_Unit]], step: int,
                 if tuple(r) in moved:
                     continue
                 if u.floor:
-                    floor.append(spec("floor_reuse", line=Pts(r), point=Pts((r[1],)),
-                                      step=step + k))
+                    floor.append(spec("floor_reuse_middle" if u.floor_middle else "floor_reuse",
+                                      line=Pts(r), point=Pts((r[1],)), step=step + k))
                     continue
                 edge = next((x for x in u.specs if x.key == "edge"
                              and dict(x.fields)["line"].points == tuple(r)), None)
@@ -250,6 +250,7 @@ class _Unit:
     origin: dict[int, int] = field(default_factory=dict)  # result index -> step that drew it
     carried_for: list[Any] = field(default_factory=list)  # anchors whose lines it carries
     floor: bool = False  # finds the part's bottom corner on the floor (its result's end)
+    floor_middle: bool = False  # ... the middle of its bottom instead
 
 
 def _names_lines_of(u: _Unit, group: Sequence[_Unit], tol: float) -> bool:

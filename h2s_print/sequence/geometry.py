@@ -563,20 +563,31 @@ def _floor_corner(first: Box, part: Box, corner: Any, foot: Any, eye: np.ndarray
     an axis along which Q and C agree where there is one (then one line: Q's own edge meets
     F's).  None where the part's top is not in that face, its corner not over it, or the
     corner is C itself (the floor line is the guide)."""
-    cx, cy, cz = (float(v) for v in corner)
-    fz = float(foot[2])
-    if abs(float(part[1][2]) - cz) > tol:
+    if abs(float(part[1][2]) - float(corner[2])) > tol:
         return None  # its top is not in the first box's bottom face
     def on_placed(c: tuple[float, float]) -> int:
         return sum(any(ax == k and abs(c[k] - v) <= tol for ax, v in placed) for k in (0, 1))
 
-    qx, qy = min(((float(x), float(y)) for x in (part[0][0], part[1][0])
-                  for y in (part[0][1], part[1][1])),
-                 key=lambda c: (-on_placed(c), math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+    q = min(((float(x), float(y)) for x in (part[0][0], part[1][0])
+             for y in (part[0][1], part[1][1])),
+            key=lambda c: (-on_placed(c), math.hypot(c[0] - eye[0], c[1] - eye[1]), c))
+    return _floor_under(first, q, corner, foot, tol)
+
+
+def _floor_under(first: Box, q: tuple[float, float], corner: Any, foot: Any, tol: float
+                 ) -> _FloorCorner | None:
+    """The construction of :class:`_FloorCorner` under the point ``q`` (x, y) of the
+    ``first`` box's bottom face (:func:`_floor_corner`'s, for a point given: the middle of a
+    part centred both ways on the first box and hanging below it, where its centring lines
+    meet on that face, the roller's handle); None where ``q`` is not over that face or is
+    the floor line's own corner."""
+    cx, cy, cz = (float(v) for v in corner)
+    fz = float(foot[2])
+    qx, qy = q
     if not (first[0][0] - tol <= qx <= first[1][0] + tol
             and first[0][1] - tol <= qy <= first[1][1] + tol):
         return None  # its corner is not over the first box's bottom face
-    q, c = (qx, qy), (cx, cy)
+    c = (cx, cy)
     a = 1 if abs(q[0] - c[0]) > tol and abs(q[1] - c[1]) <= tol else 0
     b = 1 - a
     moved_a, moved_b = abs(q[a] - c[a]) > tol, abs(q[b] - c[b]) > tol
