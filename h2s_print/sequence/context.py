@@ -1592,7 +1592,8 @@ class _Context(_Repeats, _Ellipses):
             where = "against" if a.axis != 2 else "on" if a.ratio >= 0.5 else "under"
             head = _t(f"headline.{where}_face" + ("_from" if others else ""),
                       Part=_cap(name), shape=shape, parent=lies["parent"], face=lies["faces"],
-                      the_others=_join([_the(x) for x in others])) + note
+                      the_others=_join([_the(x) for x in others]),
+                      beyond=words.beyond(a.axis, "lo" if a.ratio < 0.5 else "hi")) + note
         def guides_head(group: list[_Unit], n: int = 0, total: int = 1) -> str:
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             if total > 1:  # several guides steps for one part: numbered (a read-through took
