@@ -1783,7 +1783,8 @@ def test_a_cited_line_says_the_side_it_places_and_lies_in_that_sides_plane(examp
 def test_citations_say_what_they_place_as_far_as_the_words_allow(examples):
     """A placing step's citations say what each line places where the step keeps within its
     words, one by one, not all or none: the mixer's bowl read "Use ST from step 3. Use UV from
-    step 4." (all of them said would have taken it four words over the limit)."""
+    step 4." (all of them said would have taken it four words over the limit); a line reused
+    from another part's step says it too."""
     t, plan, views = examples["mixer"]
     for view in t.views:
         bowl = next(s for s in views[(view.name, "novice")].steps
@@ -1791,6 +1792,14 @@ def test_citations_say_what_they_place_as_far_as_the_words_allow(examples):
         uses = [x for x in bowl.substeps if x.startswith("Use ")]
         assert any(" for its " in x for x in uses), bowl.substeps
         assert len(bowl.text.split()) <= seq_drafts.MAX_STEP_WORDS
+    # a line reused from another part's step too: the train's boiler read "Use LM from step
+    # 3." (the cab's quarter line, its right side)
+    t, plan, views = examples["train"]
+    for view in t.views:
+        boiler = next(s for s in views[(view.name, "novice")].steps
+                      if s.part == "boiler" and s.kind == "primitive")
+        assert any(re.fullmatch(r"Use [A-Z]'*[A-Z]'* from step \d+ for its right side\.", x)
+                   for x in boiler.substeps), boiler.substeps
 
 
 def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples):

@@ -1114,6 +1114,7 @@ class _Context(_Repeats, _Ellipses):
         flat: list[Spec] = []
         # parent -> (side, face name, axis, flush, anchor)
         on_faces: dict[str, list[tuple[str, str, int, bool, Any]]] = {}
+        reused_for: dict[tuple[Vec3, Vec3], str] = {}  # a line reused: the side it places
         contact_of: dict[Spec, list[Any]] = {}  # a sentence placing sides on faces: anchors
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
         for anchor in cand.anchors:
@@ -1296,6 +1297,7 @@ class _Context(_Repeats, _Ellipses):
                 # engine's edges, which step 2 offered to erase, a read-through)
                 unit.specs.append(spec("reuse", ("reuse", old[0], a, b), ("reuse", old[0]),
                                        line=Pts((a, b)), step=old[0]))
+                reused_for[a, b] = self.anchor_side(anchor)
                 known.append((a, b))
                 unit.results.append((a, b))
                 unit.origin[len(unit.results) - 1] = old[0]
@@ -1652,8 +1654,19 @@ class _Context(_Repeats, _Ellipses):
         own = [x for _, x in owned]
         # an edge the placing step cites says what it places too ("Use the edge DC for its
         # back."), as a line from a guides step does
+        # a line an earlier step drew, reused, says what it places too ("Use LM from step 3
+        # for its right side."; the train's boiler read "Use LM from step 3.", a
+        # read-through), each its own (not said with a twin: their sides differ)
+        def reuse_for(x: Spec) -> Spec:
+            if x.key != "reuse":
+                return x
+            points = tuple(dict(x.fields)["line"].points)
+            if points not in reused_for:
+                return x
+            return spec("reuse_for", x.same, (), **dict(x.fields), sides=reused_for[points])
+
         own_for = _edges_together([_edge_for(x, u.anchors, self.anchor_side, cand.box)
-                                   if x.key == "edge" else x for u, x in owned])
+                                   if x.key == "edge" else reuse_for(x) for u, x in owned])
         saying = _citations(groups[:-1], step, self.anchor_side, cand.box)
         mine = saying + own_for
         if self.step_words(mine + closing_with([]), head) > MAX_STEP_WORDS:
@@ -1662,9 +1675,10 @@ class _Context(_Repeats, _Ellipses):
             # from step 4." for sides all said would have taken it four words over)
             mine = _citations(groups[:-1], step) + own
             if len(saying) + len(own) == len(mine):
-                for i, x in enumerate(saying):
+                for i, x in enumerate(saying + [reuse_for(y) for y in own]):
                     trial = mine[:i] + [x] + mine[i + 1:]
-                    if self.step_words(trial + closing_with([]), head) <= MAX_STEP_WORDS:
+                    if x != mine[i] and self.step_words(trial + closing_with([]),
+                                                        head) <= MAX_STEP_WORDS:
                         mine = trial
         specs = self.sized(head, lambda chosen: mine + closing_with(chosen), sizes, part, loose)
         if unplaced:  # "as pictured" where the step has room left for it: it never splits a
