@@ -50,17 +50,17 @@ def _folder() -> Path:
 #: translator's ``{prat}``), refused when the file is read rather than mid-build.
 FIELDS: dict[str, frozenset[str]] = {
     "steps": frozenset((
-        "Part", "Parts", "about", "amount", "beyond", "counts", "dim", "dims", "directions",
-        "edge", "edges", "end", "face", "faces", "first", "fraction", "fractions", "half", "hi", "index",
+        "Part", "Parts", "about", "amount", "beyond", "counts", "dim", "dims", "directions", "edge",
+        "edges", "end", "face", "faces", "first", "fraction", "fractions", "half", "hi", "index",
         "kind", "label", "large", "line", "line2", "lines", "lines2", "lo", "n", "near", "new",
         "nth", "other", "other2", "parent", "part", "parts", "point", "point2", "points",
         "position", "pside", "psides", "reused", "second", "shape", "shift", "side", "sides",
-        "small", "start", "step", "text", "the_other", "the_others", "the_parent", "the_parents", "the_part",
-        "through", "total", "turns", "vp", "vp2", "vp3", "where", "words")),
+        "small", "start", "step", "text", "the_other", "the_others", "the_parent", "the_parents",
+        "the_part", "through", "total", "turns", "vp", "vp2", "vp3", "where", "words")),
     "pages": frozenset((
-        "corner", "distance", "dx", "dy", "edges", "example", "first", "full", "hdir", "index", "label",
-        "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part", "title",
-        "vdir", "view", "vp")),
+        "corner", "distance", "dx", "dy", "edges", "example", "first", "full", "hdir", "index",
+        "label", "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part",
+        "title", "vdir", "view", "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((
         "condition", "config", "fill", "margin", "n", "n_drawings", "named", "object", "page",

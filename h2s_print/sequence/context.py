@@ -338,11 +338,11 @@ class _Context(_Repeats, _Ellipses):
     def floor_middle_unit(self, part: str, drawn: Sequence[str], meet: Vec3,
                           known: Sequence[tuple[Vec3, Vec3]] = ()) -> _Unit | None:
         """The floor under the middle of ``part``'s bottom, for a part standing on the floor
-        (:meth:`on_floor`) whose top is anchored below the first
-        box and whose centring lines meet at ``meet`` on that box's bottom face (the roller's
-        handle: "Its bottom stands on the floor: judge where by eye" under a point the page
-        has): the construction of :meth:`floor_unit` under ``meet``
-        (:func:`~.geometry._floor_under`), ending at the middle of its bottom; a line of it
+        (:meth:`on_floor`) whose top is anchored below the first box and whose centring
+        lines meet at ``meet`` on that box's bottom face (the roller's handle: "Its bottom
+        stands on the floor: judge where by eye" under a point the page has): the
+        construction of :meth:`floor_unit` under ``meet`` (:func:`~.geometry._floor_under`),
+        ending at the middle of its bottom; a line of it
         among ``known`` (the carries that meet there) is not drawn again.  None otherwise."""
         if not self.on_floor(part, drawn):
             return None
@@ -1164,8 +1164,8 @@ class _Context(_Repeats, _Ellipses):
                 flat.append(spec(key, sides=_join(sides), parent=self.say(ppart),
                                  faces=_join(names)))
                 contact_of[flat[-1]] = list(anchors)
-        # the one face of a drawn part it lies on, said in the headline ("Lens: a box on the
-        # body's front face.", not "from the body" and "Its back lies on the body's front
+        # the one face of a drawn part it lies on, said in the headline ("Lens: a box in front
+        # of the body's front face.", not "from the body" and "Its back lies on the body's front
         # face.": the sentence's words went to the sizes it had no room for, the lens's
         # "Make its height the same as its width", a read-through); a master's ratio words
         # then leave it out too ("its back in line with the body's front")

@@ -586,7 +586,7 @@ def _floor_under(first: Box, q: tuple[float, float], corner: Any, foot: Any, tol
     qx, qy = q
     if not (first[0][0] - tol <= qx <= first[1][0] + tol
             and first[0][1] - tol <= qy <= first[1][1] + tol):
-        return None  # its corner is not over the first box's bottom face
+        return None  # the point is not over the first box's bottom face
     c = (cx, cy)
     a = 1 if abs(q[0] - c[0]) > tol and abs(q[1] - c[1]) <= tol else 0
     b = 1 - a
