@@ -2157,9 +2157,19 @@ class _Context(_Repeats, _Ellipses):
                     c[axis], c[u], c[v] = at, (lo[u], hi[u])[a], (lo[v], hi[v])[b]
                     corners.append(tuple(c))
                 area, longest = _sheet_polygon(self.camera, corners)
-                if area < FACE_LABEL_MM * longest:
-                    continue
                 centre = _vec(np.mean(np.array(corners, dtype=float), axis=0))
+                if area < FACE_LABEL_MM * longest:
+                    # too thin to hold its name: named at the middle of its outer edge, the
+                    # one furthest on the sheet from the box's middle (the mixer's base named
+                    # its top only, and the steps spoke of its front, a read-through)
+                    mids = [_vec(0.5 * (np.asarray(corners[i]) + np.asarray(corners[i - 1])))
+                            for i in range(4)]
+                    ends = self.camera.project(np.array(corners, dtype=float))
+                    long = sorted(range(4), key=lambda i: -float(np.hypot(
+                        *(ends[i] - ends[i - 1]))))[:2]  # its two long edges
+                    middle = self.camera.project(np.array([(lo + hi) / 2.0]))[0]
+                    at = self.camera.project(np.array(mids, dtype=float))
+                    centre = mids[max(long, key=lambda i: float(np.hypot(*(at[i] - middle))))]
                 out.append(self.label(self.words.face_label(axis, end), centre, "face"))
         return tuple(out)
 
