@@ -811,7 +811,7 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
     corners = [(frame[0], frame[1]), (frame[2], frame[1]), (frame[2], frame[3]),
                (frame[0], frame[3])]
     out: list[Item] = []
-    named: list[str] = []
+    example = ""  # the first pair's name, for the legend
     marks: list[tuple[float, float, float, float]] = []  # the ticks so far, as segments
     # ... and every arrow's tip, from which a tick keeps TICK_GAP_MM too: a tick running
     # beside an arrow toward the same point hid where "beyond the arrow's tip" starts (the
@@ -863,12 +863,12 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
             for p, q, tx in made:
                 out.append(Polyline((p, q), "black", 0.3, (), False, "vp_tick"))
                 out.append(replace(tx, string=f"{prefix}{n}"))
-        if n:
-            named.append(f"{prefix}1")
-    if named:  # what the ticks are for, in the top band at the right, by one pair's name (a
-        # read-through took a list "R1-R2, L1-L2" for lines to draw from R1 to R2)
+        if n and not example:
+            example = f"{prefix}1"
+    if example:  # what the ticks are for, in the top band at the right, by one pair's name
+        # (a read-through took a list "R1-R2, L1-L2" for lines to draw from R1 to R2)
         m = frame[1]
-        line = _t("sheet.ticks", example=named[0])
+        line = _t("sheet.ticks", example=example)
         out.append(Text(frame[2], h - m / 2 - 0.9, line, fit_line(line, 0.5 * w, 7),
                         "Helvetica", "end", "black", "vp_tick_legend"))
     return out

@@ -828,8 +828,7 @@ class _Context(_Repeats, _Ellipses):
             uses[group[0]] = self.parents_of(group[0])
             placed = self.copy_places(group[1:], keep, group[0])
             for q in group[1:]:
-                uses[q] = ({self.by_id[a.parent].part for a in self.copy_anchors(q, group[0])}
-                           if placed.get(q) else set())
+                uses[q] = self.copy_parents(q, group[0]) if placed.get(q) else set()
         return uses
 
     def groups_of(self, keep: set[str], visible: set[str]) -> list[list[str]]:
@@ -1172,6 +1171,8 @@ class _Context(_Repeats, _Ellipses):
         lies_on = [x for x in flat if x.key == "on_face"]
         lies = dict(lies_on[0].fields) if len(lies_on) == 1 else None
         contact = contact_of[lies_on[0]] if lies is not None else []
+        if lies is not None:
+            flat.remove(lies_on[0])
         eyeball = False
         for face, own in faces.values():
             k = len(_distinct(own, self.tol))
@@ -1214,8 +1215,10 @@ class _Context(_Repeats, _Ellipses):
         # what the anchors place, then what the part lines up with on an axis none places
         # (a master read nothing of the shutter button's "Centre it front to back")
         unguided = self.free_positions(part, drawn, cand.unguided_axes)
-        summary = _cap(_join(_ratio_phrases(words, cand.anchors, self.parent_name)
-                             + self.lined_up(unguided))) + "."
+        # (a part placed by eye has a headline that names no face: all its anchors said)
+        summary = _cap(_join(_ratio_phrases(
+            words, [a for a in cand.anchors if eyeball or a not in contact], self.parent_name)
+            + self.lined_up(unguided))) + "."
         if eyeball:
             specs = [spec("position", position=x)
                      for x in _positions(words, cand.anchors, self.parent_name, True)]
@@ -1539,11 +1542,6 @@ class _Context(_Repeats, _Ellipses):
                 units[("carry", k)] = u
         if floor is not None:
             units[("floor", 0)] = floor
-        if lies is not None:
-            flat.remove(lies_on[0])
-            summary = _cap(_join(_ratio_phrases(
-                words, [a for a in cand.anchors if a not in contact], self.parent_name)
-                + self.lined_up(unguided))) + "."
         placing: list[Spec] = list(flat)
         for anchor, ppart, face, con, _, carry in built:  # a mid-plane anchor: the part
             if anchor.end == "mid":                       # straddles a line
@@ -1588,14 +1586,15 @@ class _Context(_Repeats, _Ellipses):
         else:
             others = [n for n in _unique(self.parent_name(a) for a in cand.anchors)
                       if n != lies["parent"]]
-            # on a top face, under a bottom face, against a side (a read-through took the
+            # on a top face, under a bottom face, beside a side face (a read-through took the
             # mixer's bowl "on the column's front face" for standing on it)
-            a = contact[0]  # (the parent's face: its hi end where the ratio is 1)
-            where = "against" if a.axis != 2 else "on" if a.ratio >= 0.5 else "under"
+            a = contact[0]
+            pend = "lo" if a.ratio < 0.5 else "hi"  # the parent's face it lies on
+            where = "against" if a.axis != 2 else "on" if pend == "hi" else "under"
             head = _t(f"headline.{where}_face" + ("_from" if others else ""),
                       Part=_cap(name), shape=shape, parent=lies["parent"], face=lies["faces"],
                       the_others=_join([_the(x) for x in others]),
-                      beyond=words.beyond(a.axis, "lo" if a.ratio < 0.5 else "hi")) + note
+                      beyond=words.beyond(a.axis, pend)) + note
         def guides_head(group: list[_Unit], n: int = 0, total: int = 1) -> str:
             gparents = _join([_the(x) for x in _unique(self.say(u.parent) for u in group)])
             if total > 1:  # several guides steps for one part: numbered (a read-through took

@@ -392,9 +392,9 @@ class _Ellipses:
                      and self.plan.primitive(q).type == "cylinder" and self.sides_show(q)]
         rounds = [q for q in cylinders if self.straight_sides(q)]
         # (a cylinder whose sides are not straight: along the sides the picture shows)
-        tapers = [q for q in d.group if _round(self.plan.primitive(q))
-                  and self.plan.primitive(q).type == "frustum" or q in cylinders
-                  and q not in rounds]
+        tapers = [q for q in d.group if (_round(self.plan.primitive(q))
+                                         and self.plan.primitive(q).type == "frustum")
+                  or (q in cylinders and q not in rounds)]
         joins: list[Spec] = []
         if rounds:
             leads = list(dict.fromkeys(lead.get(q, q) for q in rounds))

@@ -105,6 +105,10 @@ class _Repeats:
             return anchors
         return tuple(x for x in anchors if x.axis in moved)
 
+    def copy_parents(self, q: str, first: str | None) -> set[str]:
+        """The parts copy ``q``'s words (:meth:`copy_anchors`) name."""
+        return {self.by_id[x.parent].part for x in self.copy_anchors(q, first)}
+
     def copy_places(self, members: Sequence[str], keep: set[str],
                     first: str | None = None) -> dict[str, str]:
         """Per copy of a group, the words placing it by its parents ("its back in line with the
@@ -116,8 +120,7 @@ class _Repeats:
             anchors = self.copy_anchors(q, first)
             w = _join(_ratio_phrases(self.words, anchors, self.parent_name))
             short = len(w.split()) <= REPEAT_WHERE_WORDS
-            parents = {self.by_id[x.parent].part for x in anchors}
-            where[q] = w if short and parents <= keep else ""
+            where[q] = w if short and self.copy_parents(q, first) <= keep else ""
         if len(set(where.values())) > 1:
             return {q: "" for q in members}
         return where
@@ -151,9 +154,10 @@ class _Repeats:
                 # the same box, its middle (front to back) at half of part 1's depth" said
                 # nothing of where along the desk)
                 # (said where the step has room: _Context.copies_pictured)
-                open_ = any({a.axis for a in self.copy_anchors(q, first)} != {0, 1, 2}
-                            and len(self.copy_anchors(q, first)) == len(self.chosen[q].anchors)
-                            for q in qs)
+                # (a copy said by its moved axes only lies as ``first`` on the others)
+                open_ = any({a.axis for a in said} != {0, 1, 2}
+                            and len(said) == len(self.chosen[q].anchors)
+                            for q in qs for said in (self.copy_anchors(q, first),))
                 pictured = ("repeat_pictured" if len(qs) > 1 else "repeat_pictured_one") \
                     if open_ else ""
                 out.append(spec("repeat", parts=who, shape=shape, where=where,

@@ -208,8 +208,8 @@ def _inside_pairs(anchors: Sequence[Any]) -> dict[int, int]:
         if i in taken or not inside(a):
             continue
         k = next((k for k, b in enumerate(anchors) if k > i and k not in taken and inside(b)
-                  and b.axis == a.axis and b.parent == a.parent and {a.end, b.end} == {"lo", "hi"}),
-                 None)
+                  and b.axis == a.axis and b.parent == a.parent
+                  and {a.end, b.end} == {"lo", "hi"}), None)
         if k is not None:
             out[i] = k
             taken.update((i, k))
