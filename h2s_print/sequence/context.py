@@ -249,6 +249,7 @@ class _Context(_Repeats, _Ellipses):
     _floor_lines: dict[str, tuple[Vec3, Vec3] | None] = field(default_factory=dict)
     _parts: tuple[list[list[str]], set[str]] | None = None
     _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
+    _step_words: dict[tuple[tuple[Spec, ...], str], int] = field(default_factory=dict)
     names: dict[str, PartName] = field(default_factory=dict)
 
 
@@ -706,11 +707,19 @@ class _Context(_Repeats, _Ellipses):
 
     def step_words(self, specs: Sequence[Spec], headline: str) -> int:
         """Words of a step's text with ``headline`` and these sub-steps, lettered and
-        numbered as the page says them."""
+        numbered as the page says them.
+
+        Remembered per step text: packing parts into steps asks again for groups it tried
+        before (the book's four tutorials: 793 counts of 437 distinct steps); the count
+        depends on the specs and headline alone (specs are frozen values)."""
+        key = (tuple(specs), headline)
+        if key in self._step_words:
+            return self._step_words[key]
         (subs, _), = letter_steps([self.lettered(specs)], self.tol, _substep, _join)
         text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
                                       for k, x in enumerate(subs)])
-        return len(text.split())
+        words = self._step_words[key] = len(text.split())
+        return words
 
     def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
               sizes: list[tuple[Spec, list[int]]], part: str | None = None,
