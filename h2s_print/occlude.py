@@ -44,9 +44,10 @@ def outward_normals(points: np.ndarray, faces: Sequence[Sequence[int]]
     out = []
     for f in faces:
         poly = pts[list(f)]
-        n = np.zeros(3)
-        for i in range(len(poly)):
-            n += np.cross(poly[i], poly[(i + 1) % len(poly)])
+        # each edge's cross product at once, summed in edge order from zero (accumulate
+        # adds one after the other: the same sum as adding them one by one)
+        crosses = np.cross(poly, np.roll(poly, -1, axis=0))
+        n = np.add.accumulate(np.vstack([np.zeros((1, 3)), crosses]), axis=0)[-1]
         fc = poly.mean(axis=0)
         out.append((-n if np.dot(n, fc - centre) < 0 else n, fc))
     return out

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from h2s_print.occlude import box_solid, cylinder_solid, hidden, polyhedron, runs
+from h2s_print.occlude import box_solid, cylinder_solid, hidden, outward_normals, polyhedron, runs
 
 
 def _inside_box(x, lo, hi):
@@ -131,3 +131,25 @@ def test_boxes_taken_together_hide_what_each_hides():
             t0, t1 = _inside(b, eye, d)
             want |= (t1 - t0) * np.linalg.norm(d, axis=1) > depth
         assert (_hidden_deep(pts, eye, boxes, depth) == want).all(), trial
+
+
+def test_outward_normals_sum_each_edge_in_order():
+    """Newell's normal summed over a face's edges at once equals, bit for bit, the sum made
+    one edge at a time from zero (the definition), for random faces of any size and scale;
+    and it points away from the vertices' centroid."""
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        k = int(rng.integers(4, 30))
+        pts = rng.normal(size=(k, 3)) * 10 ** rng.uniform(-3, 3)
+        faces = [tuple(int(i) for i in rng.choice(k, size=int(rng.integers(3, min(k, 10) + 1)),
+                                                   replace=False)) for _ in range(4)]
+        centre = pts.mean(axis=0)
+        for f, (n, fc) in zip(faces, outward_normals(pts, faces)):
+            poly = pts[list(f)]
+            want = np.zeros(3)
+            for i in range(len(poly)):
+                want += np.cross(poly[i], poly[(i + 1) % len(poly)])
+            if np.dot(want, fc - centre) < 0:
+                want = -want
+            assert n.tobytes() == want.tobytes()
+            assert fc.tobytes() == poly.mean(axis=0).tobytes()
