@@ -135,6 +135,7 @@ then generation order.  An id that clashes with an existing one (a part named li
 
 from __future__ import annotations
 
+import bisect
 import functools
 import heapq
 import itertools
@@ -814,9 +815,16 @@ class _Generator:
                     normal, fside, area = _face_for(pbox, axis, plane, side)
                     better = (area, fside is not None)
                     entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
-                    for entry in entries:
-                        value = _ratio_value(pbox, axis, entry.ratio)
-                        for end, target, reach in targets[axis]:
+                    values = [_ratio_value(pbox, axis, entry.ratio) for entry in entries]
+                    for end, target, reach in targets[axis]:
+                        # the catalogue's ratios ascend, so the values do: only those in a
+                        # window a little wider than the reach are tested (exactly, below);
+                        # each key is met once here, so the order they are met in is the same
+                        slack = 1e-9 * (abs(target) + reach)
+                        first = bisect.bisect_left(values, target - reach - slack)
+                        last = bisect.bisect_right(values, target + reach + slack)
+                        for k in range(first, last):
+                            value, entry = values[k], entries[k]
                             if abs(value - target) > reach:
                                 continue
                             key = (end, pid, entry.ratio)

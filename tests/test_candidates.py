@@ -582,3 +582,11 @@ def test_build_cheapest_equals_building_all(model, monkeypatch):
     monkeypatch.setattr(C._Generator, "build_cheapest", both)
     generate_candidates(prims, rels, SolverSettings())
     assert len(skipped) >= 5 and max(skipped) > 0
+
+
+def test_catalogue_ratios_ascend():
+    """end_options looks a target's ratios up in a window of the catalogue's values, which
+    needs them in ascending order of ratio."""
+    from h2s_print.ratios import CATALOGUE
+    ratios = [e.ratio for e in CATALOGUE]
+    assert ratios == sorted(ratios) and len(set(ratios)) == len(ratios)
