@@ -188,6 +188,7 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
     ``items``, of the segments ``avoid`` and of the convex polygon ``inside``, inside
     ``frame``; None when no such place is within 60 mm (within ``within`` mm, if given)."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
+    others = np.asarray(placed, dtype=float).reshape(-1, 4)  # the same boxes, as rows
     arrows = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in _SHEET_LINES])
     if avoid is not None and len(avoid):
@@ -215,28 +216,30 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
             y = t.y_mm + offs[:, 1]
             b1, b2, b3 = y - 0.21 * size, b0 + width, y + 0.72 * size
             ok &= ~((b0 < frame[0]) | (b2 > frame[2]) | (b1 < frame[1]) | (b3 > frame[3]))
-            for p in placed:  # 3 mm apart along a line, 1 mm across
-                ok &= ~((b0 < p[2] + 3.0) & (p[0] < b2 + 3.0) & (b1 < p[3] + 1.0)
-                        & (p[1] < b3 + 1.0))
+            if len(others):  # 3 mm apart along a line, 1 mm across (every text at once)
+                ok &= ~((b0[:, None] < others[:, 2] + 3.0) & (others[:, 0] < b2[:, None] + 3.0)
+                        & (b1[:, None] < others[:, 3] + 1.0)
+                        & (others[:, 1] < b3[:, None] + 1.0)).any(axis=1)
             if ok.any():
                 boxes = np.stack([b0 - 1.0, b1 - 0.5, b2 + 1.0, b3 + 0.5], axis=1)
                 ok[ok] = _crossings_many(arrows, boxes[ok]) == 0
         return ok
 
     offsets = _LABEL_SHIFTS[vertical]
+    if within is not None:  # (a test of each shift alone: first, it leaves the fewest to try)
+        offsets = offsets[np.hypot(offsets[:, 0], offsets[:, 1]) <= within]
     middles = None
     if inside is not None and len(inside) >= 3:  # places whose texts' middles are all outside
         middles = np.array([((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
                             for b in (t.box_mm for t in block)])
 
     def usable(shifts: np.ndarray) -> np.ndarray:
-        """The shifts (in order) the search may try: outside ``inside``, within ``within``."""
+        """The shifts (in order) the search may try: outside ``inside`` (those within
+        ``within`` are ``offsets`` already)."""
         if middles is not None:
             at = (shifts[:, None, :] + middles[None, :, :]).reshape(-1, 2)
             shifts = shifts[~_in_convex_all(inside, at).reshape(len(shifts), len(block))
                             .any(axis=1)]
-        if within is not None:
-            shifts = shifts[np.hypot(shifts[:, 0], shifts[:, 1]) <= within]
         return shifts
 
     # the places tried, made as far as the search reaches (nearly every block fits among the
