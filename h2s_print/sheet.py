@@ -10,10 +10,11 @@ in :mod:`h2s_print.layout`'s docstring (*Calibrated sheet*).
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 from dataclasses import replace
-from typing import Any, Sequence
+from typing import Any, Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -117,6 +118,27 @@ def _shaft_near(exit_: Any, segs: np.ndarray, clear: float) -> bool:
                 / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12)[None], 0.0, 1.0)
     near = a[None] + t[..., None] * ab[None]
     return bool((np.linalg.norm(pts[:, None, :] - near, axis=2) < clear).any())
+
+
+class _Remembered:
+    """The values of an iterator, each worked out when a loop first reaches it and kept for
+    the loops after: :func:`lay_out_sheet` tries a vanishing point's arrows in up to four
+    passes, each stopping at the first that fits (nearly always one of the first few)."""
+
+    def __init__(self, values: Iterable[Any]) -> None:
+        self._values = iter(values)
+        self._kept: list[Any] = []
+
+    def __iter__(self) -> Iterator[Any]:
+        k = 0
+        while True:
+            if k == len(self._kept):
+                try:
+                    self._kept.append(next(self._values))
+                except StopIteration:
+                    return
+            yield self._kept[k]
+            k += 1
 
 
 #: Perspective grid (:func:`perspective_grid`): about this far apart where the lines leave the
@@ -682,15 +704,27 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # an arrow toward parallels may point either way: the way whose label finds room off
         # the drawing, and whose arrow is not inside it, first (the roller's "vertical edges"
         # label sat where its front face is drawn, a read-through of stop 27)
-        exits = [exit_] + [x for way in ways[1:] if (x := shifted(way, 0)) is not None]
         # then, each way, arrows moved along the frame's edge (across the ray; each still
         # points at its vanishing point): the arrow toward parallels at the sheet's middle lay
         # in the drawing of any object drawn there top to bottom (the bottle's lid, the oven),
         # the train's left-VP label in its chimney
         n = math.hypot(*exit_.direction_mm)  # (across the ray as it is now)
         across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
-        exits += [x for k in ARROW_SHIFTS for way in ways
-                  if (x := shifted(way, k, across=across)) is not None]
+
+        def in_turn(ways: list[Any] = ways, shifted: Any = shifted, across: Pt = across
+                    ) -> Iterator[Any]:
+            """The arrows in the order they are tried, the first (``exit_``) left out."""
+            for way in ways[1:]:
+                if (other := shifted(way, 0)) is not None:
+                    yield other
+            for k in ARROW_SHIFTS:
+                for way in ways:
+                    if (other := shifted(way, k, across=across)) is not None:
+                        yield other
+
+        # each arrow made when the search first reaches it (it nearly always stops at one of
+        # the first few): an arrow is the same whenever it is made
+        exits = _Remembered(itertools.chain([exit_], in_turn()))
         chosen = None
         # the label off the drawing; else off its lines only (the train fills its frame: the
         # arrow toward its left vanishing point sat in the chimney), the arrow never inside
@@ -717,7 +751,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         if chosen is not None:
             items += chosen
             continue
-        arrow, block, vertical = labelled(exits[0])
+        arrow, block, vertical = labelled(exit_)
         items += arrow
         # the loop above tried this arrow's label off the drawing, and off its lines, unless
         # the arrow lies inside the drawing
