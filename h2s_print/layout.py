@@ -447,9 +447,17 @@ class _View:
         s = self.scale
         return (self.rect[0] + (p[0] - self.window[0]) * s, self.rect[1] + (p[1] - self.window[1]) * s)
 
+    def map_all(self, points: Iterable[Pt]) -> list[Pt]:
+        """:meth:`map` of each of ``points`` (the same arithmetic, the scale worked out once:
+        a book maps 150 000 points)."""
+        s = self.scale
+        rx, ry = self.rect[0], self.rect[1]
+        wx, wy = self.window[0], self.window[1]
+        return [(rx + (p[0] - wx) * s, ry + (p[1] - wy) * s) for p in points]
+
     def lines(self, points: Sequence[Pt], style: LineStyle, role: str,
               closed: bool = False) -> list[Polyline]:
-        mapped = [self.map(p) for p in points]
+        mapped = self.map_all(points)
         # A hair of slack so lines lying exactly on the rectangle's edge survive rounding.
         x0, y0, x1, y1 = self.rect
         box = (x0 - 1e-7, y0 - 1e-7, x1 + 1e-7, y1 + 1e-7)
@@ -769,7 +777,7 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
         return (min(p[0] for p in ps) - pad, min(p[1] for p in ps) - pad,
                 max(p[0] for p in ps) + pad, max(p[1] for p in ps) + pad)
 
-    new = [view.map(p) for st in step.strokes for p in st.points_mm]
+    new = view.map_all(p for st in step.strokes for p in st.points_mm)
     tries: list[tuple[Box2, float]] = []
     if crowded:
         wanted = max(CLOSE_UP_SPACING_MM / max(closest, 1e-9),
@@ -1231,7 +1239,8 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
     # handle's top corner at S, whose dot was the top face's centre)
     ends = [p for it in items if isinstance(it, Polyline) and len(it.points_mm) == 2
             for p in it.points_mm]
-    corners = np.unique(np.round(np.asarray(ends, dtype=float).reshape(-1, 2), 3), axis=0)
+    # (a corner met twice is left twice: only the nearest counts)
+    corners = np.round(np.asarray(ends, dtype=float).reshape(-1, 2), 3)
     taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
                           dy + LABEL_DOT_MM) if lb.kind == "point" else (dx, dy, dx, dy)
                          for lb, (dx, dy) in zip(labels, dots)]
