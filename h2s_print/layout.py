@@ -55,6 +55,7 @@ Decisions where the brief is silent (documented here, kept in one place):
 from __future__ import annotations
 
 import functools
+import itertools
 import logging
 import math
 import re
@@ -986,14 +987,12 @@ _LABEL_DIRS = ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, 
 
 def _segments(items: Sequence[Item]) -> np.ndarray:
     """(n, 4) segments ``x0 y0 x1 y1`` of every polyline among ``items``, page mm."""
-    segs = []
-    for it in items:
+    rows: list[tuple[float, float, float, float]] = []
+    for it in items:  # (as rows of one array: most lines have two points)
         if isinstance(it, Polyline) and len(it.points_mm) > 1:
-            pts = np.asarray(it.points_mm, dtype=float)
-            if it.closed:
-                pts = np.vstack([pts, pts[:1]])
-            segs.append(np.hstack([pts[:-1], pts[1:]]))
-    return _stack(segs)
+            pts = (*it.points_mm, it.points_mm[0]) if it.closed else it.points_mm
+            rows += [(a[0], a[1], b[0], b[1]) for a, b in itertools.pairwise(pts)]
+    return np.array(rows, dtype=float).reshape(-1, 4)
 
 
 def _stack(arrays: Sequence[np.ndarray]) -> np.ndarray:
