@@ -582,7 +582,10 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
             def rel(c: Pt) -> float:
                 a = math.atan2(c[1] - v[1], c[0] - v[0]) - ref
                 return (a + math.pi) % (2 * math.pi) - math.pi
-            for corner in (min(points, key=rel), max(points, key=rel)):
+            # each point's angle once; the first point of the least and of the greatest, as
+            # min() and max() with key=rel pick them
+            angles = [rel(c) for c in points]
+            for corner in (points[angles.index(min(angles))], points[angles.index(max(angles))]):
                 if math.dist(corner, v) < 1e-6:
                     continue
                 # From beyond the corner (a quarter of the way back past it) to the VP.
