@@ -55,6 +55,7 @@ Decisions where the brief is silent (documented here, kept in one place):
 from __future__ import annotations
 
 import functools
+import itertools
 import logging
 import math
 import re
@@ -447,9 +448,17 @@ class _View:
         s = self.scale
         return (self.rect[0] + (p[0] - self.window[0]) * s, self.rect[1] + (p[1] - self.window[1]) * s)
 
+    def map_all(self, points: Iterable[Pt]) -> list[Pt]:
+        """:meth:`map` of each of ``points`` (the same arithmetic, the scale worked out once:
+        a book maps 150 000 points)."""
+        s = self.scale
+        rx, ry = self.rect[0], self.rect[1]
+        wx, wy = self.window[0], self.window[1]
+        return [(rx + (p[0] - wx) * s, ry + (p[1] - wy) * s) for p in points]
+
     def lines(self, points: Sequence[Pt], style: LineStyle, role: str,
               closed: bool = False) -> list[Polyline]:
-        mapped = [self.map(p) for p in points]
+        mapped = self.map_all(points)
         # A hair of slack so lines lying exactly on the rectangle's edge survive rounding.
         x0, y0, x1, y1 = self.rect
         box = (x0 - 1e-7, y0 - 1e-7, x1 + 1e-7, y1 + 1e-7)
@@ -573,7 +582,10 @@ def _vanishing_lines(view: _View, plan: ViewPlan, strokes: Sequence[Stroke]) -> 
             def rel(c: Pt) -> float:
                 a = math.atan2(c[1] - v[1], c[0] - v[0]) - ref
                 return (a + math.pi) % (2 * math.pi) - math.pi
-            for corner in (min(points, key=rel), max(points, key=rel)):
+            # each point's angle once; the first point of the least and of the greatest, as
+            # min() and max() with key=rel pick them
+            angles = [rel(c) for c in points]
+            for corner in (points[angles.index(min(angles))], points[angles.index(max(angles))]):
                 if math.dist(corner, v) < 1e-6:
                     continue
                 # From beyond the corner (a quarter of the way back past it) to the VP.
@@ -769,7 +781,7 @@ def _close_up(view: _View, step: Step, segs: np.ndarray, drawn: np.ndarray,
         return (min(p[0] for p in ps) - pad, min(p[1] for p in ps) - pad,
                 max(p[0] for p in ps) + pad, max(p[1] for p in ps) + pad)
 
-    new = [view.map(p) for st in step.strokes for p in st.points_mm]
+    new = view.map_all(p for st in step.strokes for p in st.points_mm)
     tries: list[tuple[Box2, float]] = []
     if crowded:
         wanted = max(CLOSE_UP_SPACING_MM / max(closest, 1e-9),
@@ -978,14 +990,12 @@ _LABEL_DIRS = ((1, 0), (0, 1), (-1, 0), (0, -1), (1, 1), (-1, 1), (-1, -1), (1, 
 
 def _segments(items: Sequence[Item]) -> np.ndarray:
     """(n, 4) segments ``x0 y0 x1 y1`` of every polyline among ``items``, page mm."""
-    segs = []
-    for it in items:
+    rows: list[tuple[float, float, float, float]] = []
+    for it in items:  # (as rows of one array: most lines have two points)
         if isinstance(it, Polyline) and len(it.points_mm) > 1:
-            pts = np.asarray(it.points_mm, dtype=float)
-            if it.closed:
-                pts = np.vstack([pts, pts[:1]])
-            segs.append(np.hstack([pts[:-1], pts[1:]]))
-    return _stack(segs)
+            pts = (*it.points_mm, it.points_mm[0]) if it.closed else it.points_mm
+            rows += [(a[0], a[1], b[0], b[1]) for a, b in itertools.pairwise(pts)]
+    return np.array(rows, dtype=float).reshape(-1, 4)
 
 
 def _stack(arrays: Sequence[np.ndarray]) -> np.ndarray:
@@ -1056,6 +1066,150 @@ NEW_LINE_WEIGHT = 3
 CORNER_OWN_MM = 0.3
 
 
+def _rows(values: Sequence[Sequence[float]], width: int) -> np.ndarray:
+    """``values`` as a float array (n, ``width``), also when empty."""
+    return np.asarray(values, dtype=float).reshape(-1, width)
+
+
+@functools.cache
+def _ring_steps(rings: tuple[float, ...]) -> tuple[np.ndarray, ...]:
+    """For every place :func:`place_labels` tries on ``rings`` (radii, mm), in its order (ring
+    by ring, each in :data:`_LABEL_DIRS`' order; a ring of radius 0 is one place, centred):
+    its ring's and direction's indices, the direction's signs (x, y), and its step from the
+    dot (x, y), mm, worked out as place_labels did place by place (``r * ux / norm``)."""
+    rows = [(i, di, ux, uy, r * ux / (math.hypot(ux, uy) or 1.0),
+             r * uy / (math.hypot(ux, uy) or 1.0))
+            for i, r in enumerate(rings)
+            for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),))]
+    cols = list(zip(*rows))
+    return (np.array(cols[0]), np.array(cols[1]), np.array(cols[2]), np.array(cols[3]),
+            np.array(cols[4], dtype=float), np.array(cols[5], dtype=float))
+
+
+def _label_places(dot: Pt, w: float, cap: float, desc: float, rings: tuple[float, ...],
+                  rect: Box2, pad: float) -> tuple[np.ndarray, ...]:
+    """The places on ``rings`` round ``dot`` for a label ``w`` mm wide (``cap`` above its
+    baseline, ``desc`` below) that lie inside ``rect``, in :func:`place_labels`' order: their
+    ring indices, direction indices, the label's lower-left corner (x, y) and its box grown
+    by ``pad`` (k, 4), page mm.  The box touches the point on its ring on the side facing the
+    dot; the same floating-point operations as one place at a time."""
+    ring, di, ux, uy, step_x, step_y = _ring_steps(rings)
+    cx, cy = dot[0] + step_x, dot[1] + step_y
+    bx0 = np.where(ux > 0, cx, np.where(ux < 0, cx - w, cx - w / 2))
+    by0 = np.where(uy > 0, cy, np.where(uy < 0, cy - cap - desc, cy - (cap + desc) / 2))
+    box = np.stack([bx0 - pad, by0 - pad, bx0 + w + pad, by0 + cap + desc + pad], axis=1)
+    inside = ~((box[:, 0] < rect[0]) | (box[:, 1] < rect[1]) | (box[:, 2] > rect[2])
+               | (box[:, 3] > rect[3]))
+    return ring[inside], di[inside], bx0[inside], by0[inside], box[inside]
+
+
+def _overlaps_any(boxes: np.ndarray, others: np.ndarray) -> np.ndarray:
+    """For each of ``boxes`` (k, 4): does it overlap one of ``others`` (n, 4)
+    (:func:`_boxes_overlap`, the same comparisons)?"""
+    if not len(others) or not len(boxes):
+        return np.zeros(len(boxes), dtype=bool)
+    b, o = boxes[:, None, :], others[None, :, :]
+    return ((b[..., 0] < o[..., 2]) & (o[..., 0] < b[..., 2]) & (b[..., 1] < o[..., 3])
+            & (o[..., 1] < b[..., 3])).any(axis=1)
+
+
+def _nearer_other(points: np.ndarray, own: Sequence[float], dots: np.ndarray) -> np.ndarray:
+    """For each of ``points`` (k, 2): is one of ``dots`` (n, 2) nearer to it than ``own`` (its
+    own dot's distance), measured with :func:`math.hypot` as :func:`place_labels` measured?
+    Only the pairs whose longer coordinate difference is at most ``own`` are measured: a
+    hypotenuse is never shorter than its longer side (math.hypot rounds to a neighbour of the
+    exact value, and that side is a float at or below it), so no other dot can be nearer."""
+    out = np.zeros(len(points), dtype=bool)
+    if not len(dots) or not len(points):
+        return out
+    ddx = points[:, None, 0] - dots[None, :, 0]
+    ddy = points[:, None, 1] - dots[None, :, 1]
+    maybe = np.maximum(np.abs(ddx), np.abs(ddy)) <= np.asarray(own, dtype=float)[:, None]
+    for i, j in zip(*np.nonzero(maybe)):
+        if math.hypot(ddx[i, j], ddy[i, j]) < own[i]:
+            out[i] = True
+    return out
+
+
+#: A label's box on a picture: its letters' cap height and descender, and the room kept round
+#: them, mm (:func:`place_labels`).
+_LABEL_CAP_MM = 0.72 * LABEL_PT * PT_MM
+_LABEL_DESC_MM = 0.21 * LABEL_PT * PT_MM
+_LABEL_PAD_MM = 0.25
+
+
+@dataclass(frozen=True, slots=True)
+class _LabelSurroundings:
+    """What a place for one label on a picture is tested against (:func:`place_labels`), page
+    mm.
+
+    Attributes:
+        rest: the boxes of every other label and dot (n, 4).
+        gapped: those a place keeps :data:`PART_LABEL_GAP_MM` from (n, 4).
+        dots: the other letters' dots (n, 2).
+        corners: the corners of straight lines near the dot, not the dot's own (n, 2).
+        segs: every drawn line's segments; ``new``: the step's new lines' (n, 4).
+        rect: the picture.
+    """
+
+    rest: np.ndarray
+    gapped: np.ndarray
+    dots: np.ndarray
+    corners: np.ndarray
+    segs: np.ndarray
+    new: np.ndarray
+    rect: Box2
+
+
+def _scored_places(dot: Pt, w: float, rings: tuple[float, ...], near: _LabelSurroundings
+                   ) -> dict[int, tuple[int, float, float, bool, bool, int]]:
+    """The best free place for a label ``w`` mm wide round ``dot`` on each of ``rings``, by
+    ring index: ``(direction, x, y, ambiguous, crowded, lines crossed)`` (the lower-left
+    corner of its letters, and the terms of :func:`place_labels`' score but the ring).
+
+    The places of several rings at once, each tested on its own as place_labels tested them
+    one by one; a ring's best is its first place of the fewest (ambiguous, crowded, lines
+    crossed), which is what place_labels' scan of the ring in order keeps: the ring and the
+    direction are the rest of its score, and a ring's directions differ."""
+    pad, cap, desc = _LABEL_PAD_MM, _LABEL_CAP_MM, _LABEL_DESC_MM
+    ring, di, bx0, by0, box = _label_places(dot, w, cap, desc, rings, near.rect, pad)
+    # not on another label or dot
+    free = ~_overlaps_any(box, near.rest)
+    ring, di, bx0, by0, box = ring[free], di[free], bx0[free], by0[free], box[free]
+    if not len(box):
+        return {}
+    # a part's name closer than PART_LABEL_GAP_MM to another label (or a label to a part's
+    # name) only where no place on the near rings keeps the gap
+    g = PART_LABEL_GAP_MM
+    crowded = _overlaps_any(np.stack([box[:, 0] - g, box[:, 1] - g, box[:, 2] + g,
+                                      box[:, 3] + g], axis=1), near.gapped)
+    # a label must read as its own dot's: nearer to it than to any other dot; then few lines
+    # across it, then near its dot (a line crossed costs a ring)
+    mid = np.stack([(box[:, 0] + box[:, 2]) / 2, (box[:, 1] + box[:, 3]) / 2], axis=1)
+    own = [math.hypot(mx - dot[0], my - dot[1]) for mx, my in mid.tolist()]
+    ambiguous = _nearer_other(mid, own, near.dots)
+    crossed = _crossings_many(near.segs, box)
+    corners = near.corners
+    if len(corners):  # nearer another corner than the dot: one line more
+        gap = np.hypot(mid[:, None, 0] - corners[None, :, 0],
+                       mid[:, None, 1] - corners[None, :, 1]).min(axis=1)
+        crossed = crossed + (gap < np.array(own))
+    if len(near.new):  # the box grown by the thick line's half width: touching counts
+        grow = STYLES["new"].width_mm / 2 + pad
+        crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
+            near.new, np.stack([box[:, 0] - grow, box[:, 1] - grow, box[:, 2] + grow,
+                                box[:, 3] + grow], axis=1))
+    # each ring's first place of the least (ambiguous, crowded, crossed): sorted by ring,
+    # then by those, then by place (the places are in ring order, each ring's in direction
+    # order)
+    order = np.lexsort((np.arange(len(ring)), crossed, crowded, ambiguous, ring))
+    rings_seen, first = np.unique(ring[order], return_index=True)
+    best = order[first]
+    return {r: (d, x, y, a, c, n) for r, d, x, y, a, c, n in zip(
+        rings_seen.tolist(), di[best].tolist(), bx0[best].tolist(), by0[best].tolist(),
+        ambiguous[best].tolist(), crowded[best].tolist(), crossed[best].tolist())}
+
+
 def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
                  segs: np.ndarray | None = None, new: np.ndarray | None = None) -> list[Item]:
     """A dot at each label's point and its letters beside it (roles ``label_point`` and
@@ -1087,13 +1241,13 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
     # handle's top corner at S, whose dot was the top face's centre)
     ends = [p for it in items if isinstance(it, Polyline) and len(it.points_mm) == 2
             for p in it.points_mm]
-    corners = np.unique(np.round(np.asarray(ends, dtype=float).reshape(-1, 2), 3), axis=0)
-    x0, y0, x1, y1 = view.rect
+    # (a corner met twice is left twice: only the nearest counts)
+    corners = np.round(np.asarray(ends, dtype=float).reshape(-1, 2), 3)
     taken: list[Box2] = [(dx - LABEL_DOT_MM, dy - LABEL_DOT_MM, dx + LABEL_DOT_MM,
                           dy + LABEL_DOT_MM) if lb.kind == "point" else (dx, dy, dx, dy)
                          for lb, (dx, dy) in zip(labels, dots)]
     out: list[Item] = []
-    pad = 0.25
+    pad = _LABEL_PAD_MM
     names: set[int] = set()  # indices in ``taken`` of parts' names placed
     for k, (lb, (dx, dy)) in enumerate(zip(labels, dots)):
         # a part's short name or a face's: centred on the part (the face), no dot
@@ -1108,54 +1262,31 @@ def place_labels(view: _View, labels: Sequence[Label], items: Sequence[Item], *,
         others = np.zeros((0, 2)) if part or not len(corners) else corners[
             (np.abs(corners[:, 0] - dx) <= reach) & (np.abs(corners[:, 1] - dy) <= reach)
             & (np.hypot(corners[:, 0] - dx, corners[:, 1] - dy) > CORNER_OWN_MM)]
-        cap, desc = 0.72 * LABEL_PT * PT_MM, 0.21 * LABEL_PT * PT_MM
+        # what a place is tested against: every other label (and dot), the labels a part's
+        # name keeps PART_LABEL_GAP_MM from (all, for a part's name), the other letters' dots
+        near_of = _LabelSurroundings(
+            rest=_rows([t for j, t in enumerate(taken) if j != k], 4),
+            gapped=_rows([t for j, t in enumerate(taken) if j != k and (part or j in names)], 4),
+            dots=_rows([p for j, p in enumerate(dots) if j != k and labels[j].kind == "point"],
+                       2),
+            corners=others, segs=segs, new=new, rect=view.rect)
         best: tuple[tuple, Text] | None = None
         rings = ((0.0,) if part else ()) + LABEL_RADII_MM + LABEL_RADII_FAR_MM
+        near = len(rings) - len(LABEL_RADII_FAR_MM)
+        places: dict[int, tuple[int, float, float, bool, bool, int]] = {}
         for ri, r in enumerate(rings):
             if best is not None and r in LABEL_RADII_FAR_MM:
                 break  # the far rings only when nothing nearer is free
-            free: list[tuple[int, float, float, Box2, bool, bool, float]] = []
-            for di, (ux, uy) in enumerate(_LABEL_DIRS if r else ((0, 0),)):  # r 0: centred
-                norm = math.hypot(ux, uy) or 1.0
-                cx, cy = dx + r * ux / norm, dy + r * uy / norm
-                # the label's box touches (cx, cy) on the side facing the dot
-                bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
-                by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
-                box = (bx0 - pad, by0 - pad, bx0 + w + pad, by0 + cap + desc + pad)
-                if box[0] < x0 or box[1] < y0 or box[2] > x1 or box[3] > y1:
-                    continue
-                if any(_boxes_overlap(box, t) for j, t in enumerate(taken) if j != k):
-                    continue
-                # a part's name closer than PART_LABEL_GAP_MM to another label (or a label to
-                # a part's name) only where no place on the near rings keeps the gap
-                g = PART_LABEL_GAP_MM
-                grown = (box[0] - g, box[1] - g, box[2] + g, box[3] + g)
-                crowded = any(_boxes_overlap(grown, t) for j, t in enumerate(taken)
-                              if j != k and (part or j in names))
-                # a label must read as its own dot's: nearer to it than to any other dot; then
-                # few lines across it, then near its dot (a line crossed costs a ring)
-                mx, my = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
-                own = math.hypot(mx - dx, my - dy)
-                ambiguous = any(math.hypot(mx - ox, my - oy) < own
-                                for j, (ox, oy) in enumerate(dots)
-                                if j != k and labels[j].kind == "point")
-                free.append((di, bx0, by0, box, ambiguous, crowded, own))
-            crossed = _crossings_many(segs, [f[3] for f in free])
-            if free and len(others):  # nearer another corner than the dot: one line more
-                at = np.array([((f[3][0] + f[3][2]) / 2, (f[3][1] + f[3][3]) / 2) for f in free])
-                gap = np.hypot(at[:, None, 0] - others[None, :, 0],
-                               at[:, None, 1] - others[None, :, 1]).min(axis=1)
-                crossed = crossed + (gap < np.array([f[6] for f in free]))
-            if len(new):  # the box grown by the thick line's half width: touching counts
-                grow = STYLES["new"].width_mm / 2 + pad
-                crossed = crossed + (NEW_LINE_WEIGHT - 1) * _crossings_many(
-                    new, [(b[0] - grow, b[1] - grow, b[2] + grow, b[3] + grow)
-                          for b in (f[3] for f in free)])
-            for (di, bx0, by0, _, ambiguous, crowded, _), n in zip(free, crossed.tolist()):
+            if ri in (0, near):  # the near rings' places at once, then the far rings'
+                group = rings[:near] if ri == 0 else rings[near:]
+                places = {ri + j: place for j, place in _scored_places((dx, dy), w, group,
+                                                                       near_of).items()}
+            if ri in places:  # the ring's best place against the best so far
+                di, bx0, by0, ambiguous, crowded, n = places[ri]
                 score = (ambiguous, crowded, n + ri, di)
                 if best is None or score < best[0]:
-                    best = (score, Text(bx0, by0 + desc, lb.name, LABEL_PT, font, "start",
-                                        colour, role))
+                    best = (score, Text(bx0, by0 + _LABEL_DESC_MM, lb.name, LABEL_PT, font,
+                                        "start", colour, role))
             if best is not None and not best[0][0] and not best[0][1] and best[0][2] <= ri:
                 break  # nothing further out can score better
         if best is None:

@@ -10,10 +10,11 @@ in :mod:`h2s_print.layout`'s docstring (*Calibrated sheet*).
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 from dataclasses import replace
-from typing import Any, Sequence
+from typing import Any, Iterable, Iterator, Sequence
 
 import numpy as np
 
@@ -119,6 +120,27 @@ def _shaft_near(exit_: Any, segs: np.ndarray, clear: float) -> bool:
     return bool((np.linalg.norm(pts[:, None, :] - near, axis=2) < clear).any())
 
 
+class _Remembered:
+    """The values of an iterator, each worked out when a loop first reaches it and kept for
+    the loops after: :func:`lay_out_sheet` tries a vanishing point's arrows in up to four
+    passes, each stopping at the first that fits (nearly always one of the first few)."""
+
+    def __init__(self, values: Iterable[Any]) -> None:
+        self._values = iter(values)
+        self._kept: list[Any] = []
+
+    def __iter__(self) -> Iterator[Any]:
+        k = 0
+        while True:
+            if k == len(self._kept):
+                try:
+                    self._kept.append(next(self._values))
+                except StopIteration:
+                    return
+            yield self._kept[k]
+            k += 1
+
+
 #: Perspective grid (:func:`perspective_grid`): about this far apart where the lines leave the
 #: frame, mm, and drawn like this.
 GRID_SPACING_MM = 12.0
@@ -188,6 +210,7 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
     ``items``, of the segments ``avoid`` and of the convex polygon ``inside``, inside
     ``frame``; None when no such place is within 60 mm (within ``within`` mm, if given)."""
     placed = [t.box_mm for t in items if isinstance(t, Text)]
+    others = np.asarray(placed, dtype=float).reshape(-1, 4)  # the same boxes, as rows
     arrows = _segments([it for it in items if isinstance(it, Polyline)
                         and it.role in _SHEET_LINES])
     if avoid is not None and len(avoid):
@@ -215,28 +238,30 @@ def _clear_of_texts(block: list[Text], items: Sequence[Item], frame: Box2,
             y = t.y_mm + offs[:, 1]
             b1, b2, b3 = y - 0.21 * size, b0 + width, y + 0.72 * size
             ok &= ~((b0 < frame[0]) | (b2 > frame[2]) | (b1 < frame[1]) | (b3 > frame[3]))
-            for p in placed:  # 3 mm apart along a line, 1 mm across
-                ok &= ~((b0 < p[2] + 3.0) & (p[0] < b2 + 3.0) & (b1 < p[3] + 1.0)
-                        & (p[1] < b3 + 1.0))
+            if len(others):  # 3 mm apart along a line, 1 mm across (every text at once)
+                ok &= ~((b0[:, None] < others[:, 2] + 3.0) & (others[:, 0] < b2[:, None] + 3.0)
+                        & (b1[:, None] < others[:, 3] + 1.0)
+                        & (others[:, 1] < b3[:, None] + 1.0)).any(axis=1)
             if ok.any():
                 boxes = np.stack([b0 - 1.0, b1 - 0.5, b2 + 1.0, b3 + 0.5], axis=1)
                 ok[ok] = _crossings_many(arrows, boxes[ok]) == 0
         return ok
 
     offsets = _LABEL_SHIFTS[vertical]
+    if within is not None:  # (a test of each shift alone: first, it leaves the fewest to try)
+        offsets = offsets[np.hypot(offsets[:, 0], offsets[:, 1]) <= within]
     middles = None
     if inside is not None and len(inside) >= 3:  # places whose texts' middles are all outside
         middles = np.array([((b[0] + b[2]) / 2, (b[1] + b[3]) / 2)
                             for b in (t.box_mm for t in block)])
 
     def usable(shifts: np.ndarray) -> np.ndarray:
-        """The shifts (in order) the search may try: outside ``inside``, within ``within``."""
+        """The shifts (in order) the search may try: outside ``inside`` (those within
+        ``within`` are ``offsets`` already)."""
         if middles is not None:
             at = (shifts[:, None, :] + middles[None, :, :]).reshape(-1, 2)
             shifts = shifts[~_in_convex_all(inside, at).reshape(len(shifts), len(block))
                             .any(axis=1)]
-        if within is not None:
-            shifts = shifts[np.hypot(shifts[:, 0], shifts[:, 1]) <= within]
         return shifts
 
     # the places tried, made as far as the search reaches (nearly every block fits among the
@@ -679,15 +704,27 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         # an arrow toward parallels may point either way: the way whose label finds room off
         # the drawing, and whose arrow is not inside it, first (the roller's "vertical edges"
         # label sat where its front face is drawn, a read-through of stop 27)
-        exits = [exit_] + [x for way in ways[1:] if (x := shifted(way, 0)) is not None]
         # then, each way, arrows moved along the frame's edge (across the ray; each still
         # points at its vanishing point): the arrow toward parallels at the sheet's middle lay
         # in the drawing of any object drawn there top to bottom (the bottle's lid, the oven),
         # the train's left-VP label in its chimney
         n = math.hypot(*exit_.direction_mm)  # (across the ray as it is now)
         across = (-exit_.direction_mm[1] / n, exit_.direction_mm[0] / n)
-        exits += [x for k in ARROW_SHIFTS for way in ways
-                  if (x := shifted(way, k, across=across)) is not None]
+
+        def in_turn(ways: list[Any] = ways, shifted: Any = shifted, across: Pt = across
+                    ) -> Iterator[Any]:
+            """The arrows in the order they are tried, the first (``exit_``) left out."""
+            for way in ways[1:]:
+                if (other := shifted(way, 0)) is not None:
+                    yield other
+            for k in ARROW_SHIFTS:
+                for way in ways:
+                    if (other := shifted(way, k, across=across)) is not None:
+                        yield other
+
+        # each arrow made when the search first reaches it (it nearly always stops at one of
+        # the first few): an arrow is the same whenever it is made
+        exits = _Remembered(itertools.chain([exit_], in_turn()))
         chosen = None
         # the label off the drawing; else off its lines only (the train fills its frame: the
         # arrow toward its left vanishing point sat in the chimney), the arrow never inside
@@ -714,7 +751,7 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         if chosen is not None:
             items += chosen
             continue
-        arrow, block, vertical = labelled(exits[0])
+        arrow, block, vertical = labelled(exit_)
         items += arrow
         # the loop above tried this arrow's label off the drawing, and off its lines, unless
         # the arrow lies inside the drawing

@@ -1370,3 +1370,95 @@ def test_the_primer_explains_away_from_and_upright_vanishing_points(examples):
                 assert toward in " ".join(text.split()), (name, view.name)
             said[bool(up)] += 1
     assert said[True] and said[False], said
+
+
+def _places_one_by_one(dot, w, rings, near):
+    """The free places round ``dot`` as place_labels once tested them, one at a time (the
+    definition :func:`layout._scored_places` must keep): by ring, ``(direction, x, y,
+    ambiguous, crowded, lines crossed)``."""
+    dx, dy = dot
+    pad, cap, desc = L._LABEL_PAD_MM, L._LABEL_CAP_MM, L._LABEL_DESC_MM
+    x0, y0, x1, y1 = near.rect
+    out = {}
+    for ri, r in enumerate(rings):
+        free = []
+        for di, (ux, uy) in enumerate(L._LABEL_DIRS if r else ((0, 0),)):
+            norm = math.hypot(ux, uy) or 1.0
+            cx, cy = dx + r * ux / norm, dy + r * uy / norm
+            bx0 = cx if ux > 0 else (cx - w if ux < 0 else cx - w / 2)
+            by0 = cy if uy > 0 else (cy - cap - desc if uy < 0 else cy - (cap + desc) / 2)
+            box = (bx0 - pad, by0 - pad, bx0 + w + pad, by0 + cap + desc + pad)
+            if box[0] < x0 or box[1] < y0 or box[2] > x1 or box[3] > y1:
+                continue
+            if any(L._boxes_overlap(box, tuple(t)) for t in near.rest.tolist()):
+                continue
+            g = L.PART_LABEL_GAP_MM
+            grown = (box[0] - g, box[1] - g, box[2] + g, box[3] + g)
+            crowded = any(L._boxes_overlap(grown, tuple(t)) for t in near.gapped.tolist())
+            mx, my = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
+            own = math.hypot(mx - dx, my - dy)
+            ambiguous = any(math.hypot(mx - ox, my - oy) < own for ox, oy in near.dots.tolist())
+            n = int(L._crossings_many(near.segs, [box])[0])
+            if len(near.corners):
+                gap = float(np.hypot(mx - near.corners[:, 0], my - near.corners[:, 1]).min())
+                n += gap < own
+            if len(near.new):
+                grow = L.STYLES["new"].width_mm / 2 + pad
+                n += (L.NEW_LINE_WEIGHT - 1) * int(L._crossings_many(
+                    near.new, [(box[0] - grow, box[1] - grow, box[2] + grow, box[3] + grow)])[0])
+            free.append((di, bx0, by0, ambiguous, crowded, n))
+        if free:
+            out[ri] = free
+    return out
+
+
+def test_a_labels_places_at_once_are_its_places_one_by_one():
+    """place_labels scores the places of several rings at once (:func:`layout._scored_places`):
+    each ring's best place and every term of its score are those of the places tested one at
+    a time (the first of the least score, in direction order).  Seeded pictures on a coarse grid, so that equal distances (a place as near
+    another dot as its own), touching boxes and lines through corners occur."""
+    rng = np.random.default_rng(20)
+    ambiguous = crowded = 0
+    for trial in range(200):
+        grid = 0.5 if trial % 2 else 1.0
+
+        def pts(n, cols=2, grid=grid):
+            return rng.integers(0, 24, size=(n, cols)).astype(float) * grid
+
+        rest = pts(int(rng.integers(0, 8)), 4)
+        rest = np.hstack([np.minimum(rest[:, :2], rest[:, 2:]),
+                          np.minimum(rest[:, :2], rest[:, 2:]) + 0.4 + rest[:, 2:] % 3])
+        gapped = rest[: int(rng.integers(0, len(rest) + 1))]
+        near = L._LabelSurroundings(rest=rest, gapped=gapped, dots=pts(int(rng.integers(0, 6))),
+                                    corners=pts(int(rng.integers(0, 6))),
+                                    segs=pts(int(rng.integers(0, 30)), 4),
+                                    new=pts(int(rng.integers(0, 5)), 4),
+                                    rect=(0.0, 0.0, 24.0 * grid, 20.0 * grid))
+        dot = tuple(pts(1)[0].tolist())
+        w = float(rng.choice([1.5, 2.5, 6.0]))
+        for rings in ((0.0, *L.LABEL_RADII_MM), L.LABEL_RADII_MM, L.LABEL_RADII_FAR_MM):
+            want = _places_one_by_one(dot, w, rings, near)
+            # each ring's best as a scan in order keeps it (the first of the least score)
+            best = {ri: min(ps, key=lambda p: (p[3], p[4], p[5], p[0]))
+                    for ri, ps in want.items()}
+            assert L._scored_places(dot, w, rings, near) == best, trial
+            ambiguous += sum(p[3] for ps in want.values() for p in ps)
+            crowded += sum(p[4] for ps in want.values() for p in ps)
+    assert ambiguous > 50 and crowded > 50  # the cases occur
+
+
+def test_nearer_other_is_math_hypot_pair_by_pair():
+    """:func:`layout._nearer_other` measures only the pairs that can be nearer; its answers are
+    those of math.hypot on every pair, ties (as near as its own dot: not nearer) included."""
+    rng = np.random.default_rng(21)
+    ties = 0
+    for trial in range(300):
+        points = rng.integers(-6, 7, size=(int(rng.integers(0, 12)), 2)).astype(float) * 0.5
+        dots = rng.integers(-6, 7, size=(int(rng.integers(0, 8)), 2)).astype(float) * 0.5
+        own = [math.hypot(*p) for p in rng.integers(-6, 7, size=(len(points), 2)) * 0.5]
+        want = [any(math.hypot(px - dx, py - dy) < o for dx, dy in dots.tolist())
+                for (px, py), o in zip(points.tolist(), own)]
+        assert L._nearer_other(points, own, dots).tolist() == want, trial
+        ties += sum(math.hypot(px - dx, py - dy) == o for dx, dy in dots.tolist()
+                    for (px, py), o in zip(points.tolist(), own))
+    assert ties > 20
