@@ -71,7 +71,55 @@ def _path_ops(points_mm: Sequence[tuple[float, float]], closed: bool) -> str:
     return f"n {pairs[0]} m {' l '.join(pairs[1:])} l" + (" h" if closed else "")
 
 
-def _draw_page(c, page: Page) -> None:
+@functools.lru_cache(maxsize=64)
+def _fill_colour_op(colour: str) -> str:
+    """``r g b rg``: the line ``setFillColorRGB`` appends for a colour role."""
+    from reportlab.lib.rl_accel import fp_str
+
+    return f"{fp_str(_rgb(colour))} rg"
+
+
+#: Per document: (font key, size in pt, string) -> (its width in pt, the end of its text line).
+TextLines = dict[tuple[str, float, str], tuple[float, str]]
+
+
+
+def _text_x(anchor: str, x: float, width: float) -> float:
+    """Where a line of ``width`` pt anchored at ``x`` starts, as drawString, drawCentredString
+    and drawRightString work it out (the same float operations)."""
+    return x if anchor == "start" else x - 0.5 * width if anchor == "middle" else x - width
+
+
+def _draw_text(c, known: TextLines, font_key: str, size_pt: float, anchor: str,
+               x: float, y: float, string: str) -> None:
+    """Draw ``string`` at ``(x, y)`` pt as reportlab's drawString (Centred, Right) does.
+
+    A string's text line is ``BT 1 0 0 1 x0 y Tm <glyphs in subsets> T* ET``: only ``x0 y``
+    depends on where it stands.  The rest depends on the font, size and the document's glyph
+    subsets, where a character keeps the slot it got when first drawn; so a string drawn
+    before in the same document (a book draws 11 000 texts, 2 000 different) gets the rest
+    of its first line.  The canvas's current font is left as the first drawing set it: only
+    that first drawing reads it, and setting a TrueType font (every page font is one,
+    :func:`h2s_print.fonts.face`) writes nothing to the page.
+    """
+    from reportlab.lib.rl_accel import fp_str
+
+    seen = known.get((font_key, size_pt, string))
+    if seen is not None:
+        width, rest = seen
+        c._code.append(f"BT 1 0 0 1 {fp_str(_text_x(anchor, x, width), y)} Tm {rest}")
+        return
+    c.setFont(font_key, size_pt)
+    draw = {"start": c.drawString, "middle": c.drawCentredString,
+            "end": c.drawRightString}[anchor]
+    draw(x, y, string)
+    width = c.stringWidth(string, font_key, size_pt)
+    head = f"BT 1 0 0 1 {fp_str(_text_x(anchor, x, width), y)} Tm "
+    if c._code[-1].startswith(head):  # else drawn some other way: not reused
+        known[font_key, size_pt, string] = (width, c._code[-1][len(head):])
+
+
+def _draw_page(c, page: Page, known: TextLines) -> None:
     spec = page.font or fonts.current()
     c.setLineJoin(1)
     c.setLineCap(0)
@@ -90,11 +138,11 @@ def _draw_page(c, page: Page) -> None:
         elif isinstance(item, Text):
             if not item.string:
                 continue
-            c.setFillColorRGB(*_rgb(item.colour))
-            c.setFont(fonts.face(spec.path(item.font)).key, item.size_pt)
-            draw = {"start": c.drawString, "middle": c.drawCentredString,
-                    "end": c.drawRightString}[item.anchor]
-            draw(_pt(item.x_mm), _pt(item.y_mm), item.string)
+            # setFillColorRGB's line; the canvas's remembered fill colour is not updated
+            # (see above), and rects and circles set theirs through the canvas
+            code.append(_fill_colour_op(item.colour))
+            _draw_text(c, known, fonts.face(spec.path(item.font)).key, item.size_pt,
+                       item.anchor, _pt(item.x_mm), _pt(item.y_mm), item.string)
         elif isinstance(item, Rect):
             _style_area(c, item.colour, item.line_mm, item.fill)
             c.rect(_pt(item.x_mm), _pt(item.y_mm), _pt(item.w_mm), _pt(item.h_mm),
@@ -136,9 +184,10 @@ def pdf_bytes(pages: Sequence[Page]) -> bytes:
     c.setViewerPreference("PrintScaling", "None")
     level = -1
     has_outline = False
+    known: TextLines = {}
     for n, page in enumerate(pages):
         c.setPageSize((_pt(page.width_mm), _pt(page.height_mm)))
-        _draw_page(c, page)
+        _draw_page(c, page, known)
         for j, mark in enumerate(page.bookmarks):
             key = f"p{n}b{j}"
             c.bookmarkPage(key, fit="Fit")
