@@ -11,6 +11,7 @@ any work is done.
 from __future__ import annotations
 
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -57,30 +58,61 @@ def write_bytes_atomic(path: Path, data: bytes) -> Path:
 
 
 _FLAT = json.JSONEncoder(ensure_ascii=False, allow_nan=False, separators=(", ", ": "))
+_NUMBER_TYPES = frozenset((int, float))
 
 
 def _flat(value: Any) -> bool:
     """A list of numbers, or of such lists (a point, a box, a polyline): written on one line."""
-    return isinstance(value, list) and all(
-        (isinstance(x, (int, float)) and not isinstance(x, bool)) or _flat(x) for x in value)
+    if not isinstance(value, list):
+        return False
+    # The common cases decided by the elements' exact types (C-level): a point's floats, a
+    # polyline's points.  Anything else (a bool, a subclass) by the definition below.
+    types = set(map(type, value))
+    if types <= _NUMBER_TYPES:
+        return True
+    if types <= {int, float, list}:
+        return all(_flat(x) for x in value if type(x) is list)
+    return all((isinstance(x, (int, float)) and not isinstance(x, bool)) or _flat(x)
+               for x in value)
+
+
+def _scalar(value: Any) -> str:
+    """``value`` as the C encoder writes it: ``_FLAT.encode`` made one encoder per call, the
+    cost of a plan's 100 000 scalars and keys; exact str, float and int are what it writes
+    for them (``encode_basestring``, ``float.__repr__`` of a finite float, ``int.__repr__``),
+    anything else still goes through it."""
+    kind = type(value)
+    if kind is str:
+        return json.encoder.encode_basestring(value)
+    if kind is float and math.isfinite(value):
+        return float.__repr__(value)
+    if kind is int:
+        return int.__repr__(value)
+    return _FLAT.encode(value)
 
 
 def _write(value: Any, depth: int, out: list[str]) -> None:
     pad = "\n" + " " * (depth + 1)
     if isinstance(value, dict) and value:
         out.append("{")
-        for i, (k, v) in enumerate(value.items()):
-            out.append(("," if i else "") + pad + _FLAT.encode(str(k)) + ": ")
+        sep = pad
+        for k, v in value.items():
+            out.append(sep + _scalar(str(k)) + ": ")
             _write(v, depth + 1, out)
+            sep = "," + pad
         out.append("\n" + " " * depth + "}")
     elif isinstance(value, list) and value and not _flat(value):
         out.append("[")
-        for i, v in enumerate(value):
-            out.append(("," if i else "") + pad)
+        sep = pad
+        for v in value:
+            out.append(sep)
             _write(v, depth + 1, out)
+            sep = "," + pad
         out.append("\n" + " " * depth + "]")
-    else:  # a scalar, an empty container, or numbers (C encoder, one line)
+    elif isinstance(value, list):  # numbers (C encoder, one line), or empty
         out.append(_FLAT.encode(value))
+    else:  # a scalar, an empty dict, or another container (C encoder, one line)
+        out.append(_scalar(value))
 
 
 def dumps_json(data: Any) -> str:
