@@ -295,7 +295,9 @@ def test_plan_json_text_is_its_plain_definition():
            "enum_list": [Axis.Z, 1], "nested": [[], [[]], [[1.0, 2], []]], "empty": {},
            "tuple": (1, 2.0), "tuples": [(1, 2), (3, 4)], 3: "int key", None: [None],
            "name": Name("q\"uote\n"), Name("key"): "ü ✓ \u2028", "deep": [{"a": [[0.5]]}],
-           "list_of_dicts": [{}, {"x": []}], "strs": ["a", 1.0], "top": [1.0, [2.0, "x"]]}
+           "list_of_dicts": [{}, {"x": []}], "strs": ["a", 1.0], "top": [1.0, [2.0, "x"]],
+           "zeros": [0.0, -0.0, [-0.0, 0.0], 0.0], "again": [[0.1, 1.0], [1, 0.1]],
+           "ints_floats": [1, 1.0, [1.0, 1]], "deep_mixed": [[[0.5, 0.25]], [[0.5], {"k": 0.5}]]}
     assert dumps_json(doc) == _reference_dumps_json(doc)
     for bad in (float("nan"), [1.0, float("inf")], {"a": [[-float("inf")]]}):
         with pytest.raises(ValueError):
