@@ -14,6 +14,7 @@ from __future__ import annotations
 import functools
 import io
 import logging
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 from xml.sax.saxutils import escape
@@ -57,18 +58,33 @@ def _stroke_style_ops(colour: str, width_mm: float, dash_mm: tuple[float, ...]) 
             f"[{fp_str([_pt(d) for d in dash_mm])}] 0 d")
 
 
-def _path_ops(points_mm: Sequence[tuple[float, float]], closed: bool) -> str:
+@functools.lru_cache(maxsize=512)
+def _path_template(n_points: int, closed: bool) -> str:
+    """``n {} {} m {} {} l ... [h]``: a polyline's path with a slot per coordinate."""
+    return "n {} {} m" + " {} {} l" * (n_points - 1) + (" h" if closed else "")
+
+
+def _path_ops(points_mm: Sequence[tuple[float, float]], closed: bool,
+              numbers: dict[float, str]) -> str:
     """A polyline's path, ``n x0 y0 m x1 y1 l ... [h]``, exactly as reportlab's path object
     writes it (``beginPath``, ``moveTo``, ``lineTo``..., ``close``, then ``drawPath``).
 
-    ``fp_str`` formats each number on its own and joins them with spaces, so one call for all
-    the coordinates gives the same numbers as one call per point (180 000 calls in a book).
+    Each coordinate is written by ``fp_str`` of it in pt, which formats each number on its
+    own, so numbers met before are not formatted again: ``numbers`` (mm -> that text) is
+    filled as they are met, with one ``fp_str`` call a polyline for its new ones (a book's
+    lines meet their 360 000 coordinates' 53 000 values again and again: shared corners,
+    guides through them).  Equal mm give the same text: the one pair of equal floats that
+    differ, 0.0 and -0.0, both print ``0``.
     """
     from reportlab.lib.rl_accel import fp_str
 
-    nums = iter(fp_str([v * MM_PT for point in points_mm for v in point]).split(" "))
-    pairs = [f"{x} {y}" for x, y in zip(nums, nums)]
-    return f"n {pairs[0]} m {' l '.join(pairs[1:])} l" + (" h" if closed else "")
+    flat = [v for point in points_mm for v in point]
+    texts = list(map(numbers.get, flat))
+    if None in texts:
+        new = [i for i, text in enumerate(texts) if text is None]
+        for i, text in zip(new, fp_str([flat[i] * MM_PT for i in new]).split(" ")):
+            texts[i] = numbers[flat[i]] = text
+    return _path_template(len(points_mm), closed).format(*texts)
 
 
 @functools.lru_cache(maxsize=64)
@@ -82,6 +98,14 @@ def _fill_colour_op(colour: str) -> str:
 #: Per document: (font key, size in pt, string) -> (its width in pt, the end of its text line).
 TextLines = dict[tuple[str, float, str], tuple[float, str]]
 
+
+@dataclass(slots=True)
+class _Drawn:
+    """What a document has drawn so far, for its later pages to reuse (:func:`_draw_text`,
+    :func:`_path_ops`)."""
+
+    texts: TextLines = field(default_factory=dict)
+    numbers: dict[float, str] = field(default_factory=dict)  #: mm -> its text in pt
 
 
 def _text_x(anchor: str, x: float, width: float) -> float:
@@ -119,7 +143,7 @@ def _draw_text(c, known: TextLines, font_key: str, size_pt: float, anchor: str,
         known[font_key, size_pt, string] = (width, c._code[-1][len(head):])
 
 
-def _draw_page(c, page: Page, known: TextLines) -> None:
+def _draw_page(c, page: Page, drawn: _Drawn) -> None:
     spec = page.font or fonts.current()
     c.setLineJoin(1)
     c.setLineCap(0)
@@ -133,7 +157,7 @@ def _draw_page(c, page: Page, known: TextLines) -> None:
             # bytes at a fraction of the calls.  The canvas's remembered stroke colour and
             # width are not updated; only saveState/restoreState read them, never used here.
             code.append(_stroke_style_ops(item.colour, item.width_mm, item.dash_mm))
-            code.append(_path_ops(item.points_mm, item.closed))
+            code.append(_path_ops(item.points_mm, item.closed, drawn.numbers))
             code.append("S")
         elif isinstance(item, Text):
             if not item.string:
@@ -141,7 +165,7 @@ def _draw_page(c, page: Page, known: TextLines) -> None:
             # setFillColorRGB's line; the canvas's remembered fill colour is not updated
             # (see above), and rects and circles set theirs through the canvas
             code.append(_fill_colour_op(item.colour))
-            _draw_text(c, known, fonts.face(spec.path(item.font)).key, item.size_pt,
+            _draw_text(c, drawn.texts, fonts.face(spec.path(item.font)).key, item.size_pt,
                        item.anchor, _pt(item.x_mm), _pt(item.y_mm), item.string)
         elif isinstance(item, Rect):
             _style_area(c, item.colour, item.line_mm, item.fill)
@@ -184,10 +208,10 @@ def pdf_bytes(pages: Sequence[Page]) -> bytes:
     c.setViewerPreference("PrintScaling", "None")
     level = -1
     has_outline = False
-    known: TextLines = {}
+    drawn = _Drawn()
     for n, page in enumerate(pages):
         c.setPageSize((_pt(page.width_mm), _pt(page.height_mm)))
-        _draw_page(c, page, known)
+        _draw_page(c, page, drawn)
         for j, mark in enumerate(page.bookmarks):
             key = f"p{n}b{j}"
             c.bookmarkPage(key, fit="Fit")

@@ -307,13 +307,18 @@ def test_pdf_bytes_equal_the_canvas_methods(novice, monkeypatch):
 
 
 def test_path_ops_equal_one_fp_str_per_point():
+    """Paths written from remembered coordinate texts are the path object's: numbers met
+    again (in one line or another), both zeros, ints among floats, tiny and large values."""
     from reportlab.lib.rl_accel import fp_str
 
     rng = __import__("random").Random(7)
-    for n in (2, 3, 50):
-        points = tuple((rng.uniform(-1e4, 1e4) * rng.choice((1, 1e-6, 1e-9)),
-                        rng.uniform(0, 2)) for _ in range(n))
+    values = [0.0, -0.0, 1, 1.0, -2, 1e-9, -1e-9, 3.3e-8, 123456.789, -0.5, 25.4]
+    values += [rng.uniform(-1e4, 1e4) * rng.choice((1, 1e-6, 1e-9)) for _ in range(30)]
+    numbers: dict[float, str] = {}
+    for n in (2, 3, 50, 2, 7, 200):
+        points = tuple((rng.choice(values), rng.choice(values)) for _ in range(n))
         want = " ".join(["n", f"{fp_str(points[0][0] * MM, points[0][1] * MM)} m"]
                         + [f"{fp_str(x * MM, y * MM)} l" for x, y in points[1:]] + ["h"])
-        assert R._path_ops(points, True) == want
-        assert R._path_ops(points, False) == want[:-2]
+        assert R._path_ops(points, True, numbers) == want
+        assert R._path_ops(points, False, numbers) == want[:-2]
+        assert R._path_ops(points, False, {}) == want[:-2]
