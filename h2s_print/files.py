@@ -147,9 +147,10 @@ def _write(value: Any, depth: int, out: list[str], memo: dict[float, str]) -> No
 def dumps_json(data: Any) -> str:
     """Stable, readable JSON text: one key a line, indented by one space a level, but a list
     of numbers (a point, a box, a polyline of points) on one line.  Keys keep their order
-    (the contract's field order, not sorted).  Written by :func:`_write` over the C encoder:
-    the stdlib's indenting encoder is pure Python (1 s for the example book's plans, which
-    are mostly numbers); this takes a tenth of it and a third of the bytes."""
+    (the contract's field order, not sorted).  Written by :func:`_write`, each float's text
+    made once and other one-line values by the C encoder: the stdlib's indenting encoder is
+    pure Python (0.38 s for the example book's plans, which are mostly numbers); this takes
+    0.16 s and a third of the bytes."""
     out: list[str] = []
     _write(data, 0, out, {})
     return "".join(out) + "\n"

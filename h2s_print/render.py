@@ -96,7 +96,7 @@ def _fill_colour_op(colour: str) -> str:
 
 
 #: Per document: (font key, size in pt, string) -> (its width in pt, the end of its text line).
-TextLines = dict[tuple[str, float, str], tuple[float, str]]
+_TextLines = dict[tuple[str, float, str], tuple[float, str]]
 
 
 @dataclass(slots=True)
@@ -104,7 +104,7 @@ class _Drawn:
     """What a document has drawn so far, for its later pages to reuse (:func:`_draw_text`,
     :func:`_path_ops`)."""
 
-    texts: TextLines = field(default_factory=dict)
+    texts: _TextLines = field(default_factory=dict)
     numbers: dict[float, str] = field(default_factory=dict)  #: mm -> its text in pt
 
 
@@ -114,7 +114,7 @@ def _text_x(anchor: str, x: float, width: float) -> float:
     return x if anchor == "start" else x - 0.5 * width if anchor == "middle" else x - width
 
 
-def _draw_text(c, known: TextLines, font_key: str, size_pt: float, anchor: str,
+def _draw_text(c, known: _TextLines, font_key: str, size_pt: float, anchor: str,
                x: float, y: float, string: str) -> None:
     """Draw ``string`` at ``(x, y)`` pt as reportlab's drawString (Centred, Right) does.
 
