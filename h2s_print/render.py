@@ -14,6 +14,7 @@ from __future__ import annotations
 import functools
 import io
 import logging
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 from xml.sax.saxutils import escape
@@ -43,33 +44,129 @@ def _rgb(name: str) -> tuple[float, float, float]:
 # ----------------------------------------------------------------------------- PDF
 
 
-def _draw_page(c, page: Page) -> None:
+@functools.lru_cache(maxsize=256)
+def _stroke_style_ops(colour: str, width_mm: float, dash_mm: tuple[float, ...]) -> str:
+    """The operators that set a polyline's stroke, exactly as reportlab's canvas writes them.
+
+    ``setStrokeColorRGB``, ``setLineWidth`` and ``setDash([...], 0)`` each append one line
+    (``r g b RG``, ``w w``, ``[d ...] 0 d``) that depends on nothing but these values, so a
+    style's lines are made once (a book has about twenty styles and 40 000 polylines).
+    """
+    from reportlab.lib.rl_accel import fp_str
+
+    return (f"{fp_str(_rgb(colour))} RG\n{fp_str(_pt(width_mm))} w\n"
+            f"[{fp_str([_pt(d) for d in dash_mm])}] 0 d")
+
+
+@functools.lru_cache(maxsize=512)
+def _path_template(n_points: int, closed: bool) -> str:
+    """``n {} {} m {} {} l ... [h]``: a polyline's path with a slot per coordinate."""
+    return "n {} {} m" + " {} {} l" * (n_points - 1) + (" h" if closed else "")
+
+
+def _path_ops(points_mm: Sequence[tuple[float, float]], closed: bool,
+              numbers: dict[float, str]) -> str:
+    """A polyline's path, ``n x0 y0 m x1 y1 l ... [h]``, exactly as reportlab's path object
+    writes it (``beginPath``, ``moveTo``, ``lineTo``..., ``close``, then ``drawPath``).
+
+    Each coordinate is written by ``fp_str`` of it in pt, which formats each number on its
+    own, so numbers met before are not formatted again: ``numbers`` (mm -> that text) is
+    filled as they are met, with one ``fp_str`` call a polyline for its new ones (a book's
+    lines meet their 360 000 coordinates' 53 000 values again and again: shared corners,
+    guides through them).  Equal mm give the same text: the one pair of equal floats that
+    differ, 0.0 and -0.0, both print ``0``.
+    """
+    from reportlab.lib.rl_accel import fp_str
+
+    flat = [v for point in points_mm for v in point]
+    texts = list(map(numbers.get, flat))
+    if None in texts:
+        new = [i for i, text in enumerate(texts) if text is None]
+        for i, text in zip(new, fp_str([flat[i] * MM_PT for i in new]).split(" ")):
+            texts[i] = numbers[flat[i]] = text
+    return _path_template(len(points_mm), closed).format(*texts)
+
+
+@functools.lru_cache(maxsize=64)
+def _fill_colour_op(colour: str) -> str:
+    """``r g b rg``: the line ``setFillColorRGB`` appends for a colour role."""
+    from reportlab.lib.rl_accel import fp_str
+
+    return f"{fp_str(_rgb(colour))} rg"
+
+
+#: Per document: (font key, size in pt, string) -> (its width in pt, the end of its text line).
+_TextLines = dict[tuple[str, float, str], tuple[float, str]]
+
+
+@dataclass(slots=True)
+class _Drawn:
+    """What a document has drawn so far, for its later pages to reuse (:func:`_draw_text`,
+    :func:`_path_ops`)."""
+
+    texts: _TextLines = field(default_factory=dict)
+    numbers: dict[float, str] = field(default_factory=dict)  #: mm -> its text in pt
+
+
+def _text_x(anchor: str, x: float, width: float) -> float:
+    """Where a line of ``width`` pt anchored at ``x`` starts, as drawString, drawCentredString
+    and drawRightString work it out (the same float operations)."""
+    return x if anchor == "start" else x - 0.5 * width if anchor == "middle" else x - width
+
+
+def _draw_text(c, known: _TextLines, font_key: str, size_pt: float, anchor: str,
+               x: float, y: float, string: str) -> None:
+    """Draw ``string`` at ``(x, y)`` pt as reportlab's drawString (Centred, Right) does.
+
+    A string's text line is ``BT 1 0 0 1 x0 y Tm <glyphs in subsets> T* ET``: only ``x0 y``
+    depends on where it stands.  The rest depends on the font, size and the document's glyph
+    subsets, where a character keeps the slot it got when first drawn; so a string drawn
+    before in the same document (a book draws 11 000 texts, 2 000 different) gets the rest
+    of its first line.  The canvas's current font is left as the first drawing set it: only
+    that first drawing reads it, and setting a TrueType font (every page font is one,
+    :func:`h2s_print.fonts.face`) writes nothing to the page.
+    """
+    from reportlab.lib.rl_accel import fp_str
+
+    seen = known.get((font_key, size_pt, string))
+    if seen is not None:
+        width, rest = seen
+        c._code.append(f"BT 1 0 0 1 {fp_str(_text_x(anchor, x, width), y)} Tm {rest}")
+        return
+    c.setFont(font_key, size_pt)
+    draw = {"start": c.drawString, "middle": c.drawCentredString,
+            "end": c.drawRightString}[anchor]
+    draw(x, y, string)
+    width = c.stringWidth(string, font_key, size_pt)
+    head = f"BT 1 0 0 1 {fp_str(_text_x(anchor, x, width), y)} Tm "
+    if c._code[-1].startswith(head):  # else drawn some other way: not reused
+        known[font_key, size_pt, string] = (width, c._code[-1][len(head):])
+
+
+def _draw_page(c, page: Page, drawn: _Drawn) -> None:
     spec = page.font or fonts.current()
     c.setLineJoin(1)
     c.setLineCap(0)
+    code = c._code  # the page's content stream, one line per entry
     for item in page.items:
         if isinstance(item, Polyline):
             if len(item.points_mm) < 2:
                 continue
-            c.setStrokeColorRGB(*_rgb(item.colour))
-            c.setLineWidth(_pt(item.width_mm))
-            c.setDash([_pt(d) for d in item.dash_mm], 0) if item.dash_mm else c.setDash([], 0)
-            path = c.beginPath()
-            (x, y), *rest = item.points_mm
-            path.moveTo(_pt(x), _pt(y))
-            for x, y in rest:
-                path.lineTo(_pt(x), _pt(y))
-            if item.closed:
-                path.close()
-            c.drawPath(path, stroke=1, fill=0)
+            # The lines the canvas methods would append (setStrokeColorRGB, setLineWidth,
+            # setDash, beginPath ... drawPath(stroke=1, fill=0)), written directly: the same
+            # bytes at a fraction of the calls.  The canvas's remembered stroke colour and
+            # width are not updated; only saveState/restoreState read them, never used here.
+            code.append(_stroke_style_ops(item.colour, item.width_mm, item.dash_mm))
+            code.append(_path_ops(item.points_mm, item.closed, drawn.numbers))
+            code.append("S")
         elif isinstance(item, Text):
             if not item.string:
                 continue
-            c.setFillColorRGB(*_rgb(item.colour))
-            c.setFont(fonts.face(spec.path(item.font)).key, item.size_pt)
-            draw = {"start": c.drawString, "middle": c.drawCentredString,
-                    "end": c.drawRightString}[item.anchor]
-            draw(_pt(item.x_mm), _pt(item.y_mm), item.string)
+            # setFillColorRGB's line; the canvas's remembered fill colour is not updated
+            # (see above), and rects and circles set theirs through the canvas
+            code.append(_fill_colour_op(item.colour))
+            _draw_text(c, drawn.texts, fonts.face(spec.path(item.font)).key, item.size_pt,
+                       item.anchor, _pt(item.x_mm), _pt(item.y_mm), item.string)
         elif isinstance(item, Rect):
             _style_area(c, item.colour, item.line_mm, item.fill)
             c.rect(_pt(item.x_mm), _pt(item.y_mm), _pt(item.w_mm), _pt(item.h_mm),
@@ -111,9 +208,10 @@ def pdf_bytes(pages: Sequence[Page]) -> bytes:
     c.setViewerPreference("PrintScaling", "None")
     level = -1
     has_outline = False
+    drawn = _Drawn()
     for n, page in enumerate(pages):
         c.setPageSize((_pt(page.width_mm), _pt(page.height_mm)))
-        _draw_page(c, page)
+        _draw_page(c, page, drawn)
         for j, mark in enumerate(page.bookmarks):
             key = f"p{n}b{j}"
             c.bookmarkPage(key, fit="Fit")

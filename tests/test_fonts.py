@@ -77,6 +77,27 @@ def test_widths_are_the_font_files_own():
     assert fonts.width_mm(text, 9, "Helvetica-Bold") == pytest.approx(want)
 
 
+def test_a_width_is_the_sum_of_its_advances_in_order_exactly():
+    """The summing shortcut adds the same advances in the same order (a lacking character
+    counts the default advance), so widths, and the layout they place, are the same floats."""
+    spec = fonts.default_spec()
+    face = fonts.face(spec.path("Helvetica"))
+    text = "Step 12: Камера Ψ — ½ \U0001F600 x"
+    want = 0
+    for ch in text:
+        want += face.widths.get(ord(ch), face.default_width)
+    assert fonts._em_width.__wrapped__(spec, "Helvetica", text) == want
+
+
+def test_specs_that_differ_only_in_paths_stay_apart():
+    """A spec hashes by its name alone: equal specs hash alike, and specs of one name but
+    other files are still different keys."""
+    a = fonts.default_spec()
+    b = fonts.FontSpec(a.bold, a.bold, a.bold, a.name)
+    assert hash(a) == hash(fonts.FontSpec(a.regular, a.bold, a.oblique, a.name))
+    assert a != b and len({a: 1, b: 2}) == 2
+
+
 def test_png_text_is_drawn_in_the_same_font():
     """cairo (the PNG pages) is given the page font's files, so the width it measures for a
     text is the layout's (within 1 %), not a substitute's."""

@@ -242,3 +242,65 @@ def test_plan_json_text_reads_back_equal_with_points_on_one_line():
     assert '"text": "Draw — “AC”"' in text and text.endswith("}\n")
     assert dumps_json(doc) == text
     assert text.count("\n") == 16
+
+
+def _reference_dumps_json(data) -> str:
+    """dumps_json's definition, written plainly: every scalar and one-line list through the
+    C encoder, flatness checked element by element."""
+    from h2s_print.files import _FLAT
+
+    def flat(value) -> bool:
+        return isinstance(value, list) and all(
+            (isinstance(x, (int, float)) and not isinstance(x, bool)) or flat(x) for x in value)
+
+    def write(value, depth: int, out: list[str]) -> None:
+        pad = "\n" + " " * (depth + 1)
+        if isinstance(value, dict) and value:
+            out.append("{")
+            for i, (k, v) in enumerate(value.items()):
+                out.append(("," if i else "") + pad + _FLAT.encode(str(k)) + ": ")
+                write(v, depth + 1, out)
+            out.append("\n" + " " * depth + "}")
+        elif isinstance(value, list) and value and not flat(value):
+            out.append("[")
+            for i, v in enumerate(value):
+                out.append(("," if i else "") + pad)
+                write(v, depth + 1, out)
+            out.append("\n" + " " * depth + "]")
+        else:
+            out.append(_FLAT.encode(value))
+
+    out: list[str] = []
+    write(data, 0, out)
+    return "".join(out) + "\n"
+
+
+def test_plan_json_text_is_its_plain_definition():
+    """The shortcuts (exact types written directly, flatness by the set of element types)
+    write what the plain definition writes, odd values included."""
+    import enum
+
+    import numpy as np
+
+    from h2s_print.files import dumps_json
+
+    class Axis(enum.IntEnum):
+        Z = 2
+
+    class Name(str):
+        pass
+
+    doc = {"f": -0.0, "big": 1e16, "tiny": 5e-324, "i": -7, "enum": Axis.Z, "np": np.float64(0.1),
+           "bools": [True, False], "mixed": [1, 2.5, True], "np_list": [np.float64(1.5), 2.0],
+           "enum_list": [Axis.Z, 1], "nested": [[], [[]], [[1.0, 2], []]], "empty": {},
+           "tuple": (1, 2.0), "tuples": [(1, 2), (3, 4)], 3: "int key", None: [None],
+           "name": Name("q\"uote\n"), Name("key"): "ü ✓ \u2028", "deep": [{"a": [[0.5]]}],
+           "list_of_dicts": [{}, {"x": []}], "strs": ["a", 1.0], "top": [1.0, [2.0, "x"]],
+           "zeros": [0.0, -0.0, [-0.0, 0.0], 0.0], "again": [[0.1, 1.0], [1, 0.1]],
+           "ints_floats": [1, 1.0, [1.0, 1]], "deep_mixed": [[[0.5, 0.25]], [[0.5], {"k": 0.5}]]}
+    assert dumps_json(doc) == _reference_dumps_json(doc)
+    for bad in (float("nan"), [1.0, float("inf")], {"a": [[-float("inf")]]}):
+        with pytest.raises(ValueError):
+            _reference_dumps_json(bad)
+        with pytest.raises(ValueError):
+            dumps_json(bad)

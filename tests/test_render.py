@@ -227,3 +227,98 @@ def test_svg_text_keeps_the_layout_width_in_a_substituted_font(novice):
     assert f'textLength="{R._num(width)}"' in R.render_svg(page)
     # measured the way cairosvg picks its font, the real fallback font is rescaled too
     assert R._cairo_width_mm(first) > 0
+
+
+# ----------------------------------------------------------------------------- same bytes
+
+
+def _canvas_draw_page(c, page, *_):
+    """The simple definition of drawing a page: reportlab's canvas methods, one call per
+    operator (what ``render._draw_page`` writes faster and must match byte for byte)."""
+    spec = page.font or R.fonts.current()
+    c.setLineJoin(1)
+    c.setLineCap(0)
+    for item in page.items:
+        if isinstance(item, L.Polyline):
+            if len(item.points_mm) < 2:
+                continue
+            c.setStrokeColorRGB(*R._rgb(item.colour))
+            c.setLineWidth(R._pt(item.width_mm))
+            c.setDash([R._pt(d) for d in item.dash_mm], 0)
+            path = c.beginPath()
+            (x, y), *rest = item.points_mm
+            path.moveTo(R._pt(x), R._pt(y))
+            for x, y in rest:
+                path.lineTo(R._pt(x), R._pt(y))
+            if item.closed:
+                path.close()
+            c.drawPath(path, stroke=1, fill=0)
+        elif isinstance(item, L.Text):
+            if not item.string:
+                continue
+            c.setFillColorRGB(*R._rgb(item.colour))
+            c.setFont(R.fonts.face(spec.path(item.font)).key, item.size_pt)
+            draw = {"start": c.drawString, "middle": c.drawCentredString,
+                    "end": c.drawRightString}[item.anchor]
+            draw(R._pt(item.x_mm), R._pt(item.y_mm), item.string)
+        elif isinstance(item, L.Rect):
+            R._style_area(c, item.colour, item.line_mm, item.fill)
+            c.rect(R._pt(item.x_mm), R._pt(item.y_mm), R._pt(item.w_mm), R._pt(item.h_mm),
+                   stroke=int(item.colour is not None), fill=int(item.fill is not None))
+        else:
+            R._style_area(c, item.colour, item.line_mm, item.fill)
+            c.circle(R._pt(item.cx_mm), R._pt(item.cy_mm), R._pt(item.r_mm),
+                     stroke=int(item.colour is not None), fill=int(item.fill is not None))
+
+
+def _odd_page() -> L.Page:
+    """Lines and texts at the edges of what the fast path must get right: two points, closed,
+    dashed, tiny, negative and large coordinates; texts again at other anchors, sizes, fonts
+    and colours, and characters first met late in the document."""
+    items = [
+        L.Polyline(((0.0, 0.0), (1e-9, -3.25))),
+        L.Polyline(((10.0, 10.0), (20.5, 10.0), (20.5, 30.125)), "blue", 0.35, (2.4, 0.9),
+                   closed=True),
+        L.Polyline(((-5.0, 1234.5678), (0.1, 0.01), (1e-7, 99999.0), (3.0, 4.0)), "orange",
+                   0.25, (1.6, 1.0, 0.5, 1.0)),
+        L.Polyline(((5.0, 5.0),)),  # one point: not drawn
+        L.Text(10, 20, "Step 3", 9.0),
+        L.Text(50, 20, "Step 3", 9.0, anchor="end", colour="grey"),
+        L.Text(90, 20, "Step 3", 11.0, "Helvetica-Bold", anchor="middle"),
+        L.Text(90, 40, "Step 3", 9.0, "Helvetica-Oblique", anchor="middle", colour="blue"),
+        L.Text(10, 60, "", 9.0),
+        L.Rect(5, 5, 20, 10, "black", 0.2, "lightgrey"),
+        L.Circle(30, 30, 4, None, 0.2, "orange"),
+        L.Polyline(((1.0, 2.0), (3.0, 4.0)), "green", 0.8),
+        L.Text(10, 80, "Ωμέγα ½ Jörg", 8.5),
+        L.Text(60, 80, "Ωμέγα ½ Jörg", 8.5, anchor="end"),
+        L.Text(10, 100, "Step 3", 9.0),
+    ]
+    return L.Page(210.0, 297.0, tuple(items))
+
+
+def test_pdf_bytes_equal_the_canvas_methods(novice, monkeypatch):
+    """The page drawn through the canvas methods gives the very same file."""
+    _, pages, _ = novice
+    pages = [*pages, _odd_page(), _odd_page()]
+    fast = R.pdf_bytes(pages)
+    monkeypatch.setattr(R, "_draw_page", _canvas_draw_page)
+    assert R.pdf_bytes(pages) == fast
+
+
+def test_path_ops_equal_one_fp_str_per_point():
+    """Paths written from remembered coordinate texts are the path object's: numbers met
+    again (in one line or another), both zeros, ints among floats, tiny and large values."""
+    from reportlab.lib.rl_accel import fp_str
+
+    rng = __import__("random").Random(7)
+    values = [0.0, -0.0, 1, 1.0, -2, 1e-9, -1e-9, 3.3e-8, 123456.789, -0.5, 25.4]
+    values += [rng.uniform(-1e4, 1e4) * rng.choice((1, 1e-6, 1e-9)) for _ in range(30)]
+    numbers: dict[float, str] = {}
+    for n in (2, 3, 50, 2, 7, 200):
+        points = tuple((rng.choice(values), rng.choice(values)) for _ in range(n))
+        want = " ".join(["n", f"{fp_str(points[0][0] * MM, points[0][1] * MM)} m"]
+                        + [f"{fp_str(x * MM, y * MM)} l" for x, y in points[1:]] + ["h"])
+        assert R._path_ops(points, True, numbers) == want
+        assert R._path_ops(points, False, numbers) == want[:-2]
+        assert R._path_ops(points, False, {}) == want[:-2]
