@@ -85,10 +85,13 @@ def cylinder_solid(box: Sequence[Sequence[float]], axis: int) -> Solid:
                   ((hi[u] - lo[u]) / 2, (hi[v] - lo[v]) / 2)))
 
 
-def _inside(solid: Solid, eye: np.ndarray, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _inside(solid: Solid, eye: np.ndarray, d: np.ndarray,
+            planes: _Planes | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Per segment ``eye + t d`` (``t`` in [0, 1]), the interval ``[t0, t1]`` inside ``solid``
-    (empty when ``t0 >= t1``)."""
-    t0, t1 = (t[:, 0] for t in _inside_flat([solid], eye, d))  # its planes
+    (empty when ``t0 >= t1``); ``planes``: its planes as :func:`_planes` of ``[solid]`` gives
+    them, when already at hand."""
+    planes = _planes([solid], eye) if planes is None else planes
+    t0, t1 = (t[:, 0] for t in _inside_planes(planes, d))  # its planes
     if solid.round is not None:
         axis, (cu, cv), (ru, rv) = solid.round
         u, v = (a for a in range(3) if a != axis)
@@ -142,23 +145,59 @@ def runs(points: np.ndarray, mask: np.ndarray) -> list[tuple[bool, np.ndarray]]:
     return out
 
 
-def _hidden_deep(points: np.ndarray, eye: np.ndarray, solids: Sequence[Solid],
-                 depth: float) -> np.ndarray:
-    """Per point, whether the segment from ``eye`` to it runs inside a solid for longer than
-    ``depth`` (model units) before reaching it.  Solids bounded by planes only, with as many
-    planes each (boxes), are taken together (:func:`_inside_flat`); the others one by one."""
-    d = points - eye
-    length = np.linalg.norm(d, axis=1)
-    out = np.zeros(len(points), dtype=bool)
+@dataclass(frozen=True, slots=True, eq=False)
+class _Planes:
+    """Solids with as many planes each, stacked, and seen from one eye (:func:`_planes`)."""
+
+    normals: np.ndarray  # (S, k, 3)
+    offsets: np.ndarray  # (S, k)
+    room: np.ndarray  # (S, k): offsets - normals @ eye
+
+
+def _planes(solids: Sequence[Solid], eye: np.ndarray) -> _Planes:
+    """The half-spaces of ``solids`` (as many planes each) stacked for :func:`_inside_planes`."""
+    normals = np.stack([sd.normals for sd in solids])  # (S, k, 3)
+    offsets = np.stack([sd.offsets for sd in solids])  # (S, k)
+    return _Planes(normals, offsets, offsets - normals @ eye)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _Occluders:
+    """Solids seen from ``eye``, prepared for :func:`_hidden_deep` (:func:`_occluders`): the
+    round ones one by one with their planes, the others stacked by their number of planes."""
+
+    eye: np.ndarray
+    round: tuple[tuple[Solid, _Planes], ...]
+    flat: tuple[_Planes, ...]
+
+
+def _occluders(solids: Sequence[Solid], eye: np.ndarray) -> _Occluders:
     flat: dict[int, list[Solid]] = {}
+    rnd = []
     for solid in solids:
         if solid.round is None:
             flat.setdefault(len(solid.offsets), []).append(solid)
-            continue
-        t0, t1 = _inside(solid, eye, d)
+        else:
+            rnd.append((solid, _planes([solid], eye)))
+    return _Occluders(eye, tuple(rnd), tuple(_planes(g, eye) for g in flat.values()))
+
+
+def _hidden_deep(points: np.ndarray, eye: np.ndarray, solids: Sequence[Solid] | _Occluders,
+                 depth: float) -> np.ndarray:
+    """Per point, whether the segment from ``eye`` to it runs inside a solid for longer than
+    ``depth`` (model units) before reaching it.  Solids bounded by planes only, with as many
+    planes each (boxes), are taken together (:func:`_inside_planes`); the others one by one.
+    ``solids`` may come prepared (:func:`_occluders`, for ``eye``): :func:`hidden_spans` asks
+    of the same solids some twenty times, and stacking them is most of a small call."""
+    occ = solids if isinstance(solids, _Occluders) else _occluders(solids, eye)
+    d = points - eye
+    length = np.linalg.norm(d, axis=1)
+    out = np.zeros(len(points), dtype=bool)
+    for solid, planes in occ.round:
+        t0, t1 = _inside(solid, eye, d, planes)
         out |= (t1 - t0) * length > depth
-    for group in flat.values():
-        t0, t1 = _inside_flat(group, eye, d)  # (m, S)
+    for planes in occ.flat:
+        t0, t1 = _inside_planes(planes, d)  # (m, S)
         out |= (((t1 - t0) * length[:, None]) > depth).any(axis=1)
     return out
 
@@ -168,10 +207,13 @@ def _inside_flat(solids: Sequence[Solid], eye: np.ndarray, d: np.ndarray
     """Per segment ``eye + t d`` and solid, the interval ``[t0, t1]`` inside the solid's
     half-spaces (its round cross-section, if any, left to :func:`_inside`), for solids with
     the same number of planes, at once: ``(t0, t1)`` of shape (segments, solids)."""
-    normals = np.stack([sd.normals for sd in solids])  # (S, k, 3)
-    offsets = np.stack([sd.offsets for sd in solids])  # (S, k)
+    return _inside_planes(_planes(solids, eye), d)
+
+
+def _inside_planes(planes: _Planes, d: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_inside_flat` of solids already stacked (:func:`_planes`)."""
+    normals, offsets, room = planes.normals, planes.offsets, planes.room
     nd = (d @ normals.reshape(-1, 3).T).reshape(len(d), *offsets.shape)  # (m, S, k)
-    room = offsets - normals @ eye  # (S, k)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = room[None, :, :] / nd
     entering = nd < 0
@@ -201,8 +243,9 @@ def hidden_spans(a: Sequence[float], b: Sequence[float], eye: Sequence[float],
     pa, pb, e = (np.asarray(x, dtype=float) for x in (a, b, eye))
     if not solids:
         return []
+    occ = _occluders(solids, e)  # stacked once for the samples and every bisection round
     s = np.linspace(0.0, 1.0, SPAN_SAMPLES)
-    mask = _hidden_deep(pa + s[:, None] * (pb - pa), e, solids, depth)
+    mask = _hidden_deep(pa + s[:, None] * (pb - pa), e, occ, depth)
     if not mask.any():
         return []
     change = np.flatnonzero(mask[1:] != mask[:-1])
@@ -210,7 +253,7 @@ def hidden_spans(a: Sequence[float], b: Sequence[float], eye: Sequence[float],
     start_hidden = mask[change]  # hidden at lo: the change ends a hidden stretch
     for _ in range(SPAN_ROUNDS):
         mid = 0.5 * (lo + hi)
-        m = _hidden_deep(pa + mid[:, None] * (pb - pa), e, solids, depth)
+        m = _hidden_deep(pa + mid[:, None] * (pb - pa), e, occ, depth)
         same = m == start_hidden
         lo, hi = np.where(same, mid, lo), np.where(same, hi, mid)
     cuts = 0.5 * (lo + hi)

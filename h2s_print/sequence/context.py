@@ -244,6 +244,9 @@ class _Context(_Repeats, _Ellipses):
     _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
     _box_steps: dict[str, int] = field(default_factory=dict)
     _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
+    _hide_depth: float | None = None
+    _reach: dict[tuple[str, bool], tuple[np.ndarray, np.ndarray, float]] = field(
+        default_factory=dict)
     _edges: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _floor_lines: dict[str, tuple[Vec3, Vec3] | None] = field(default_factory=dict)

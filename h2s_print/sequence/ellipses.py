@@ -71,6 +71,28 @@ class _Ellipses:
             self._solids[key] = out
         return self._solids[key]
 
+    def hide_depth(self) -> float:
+        """:data:`HIDE_DEPTH` of the model's diagonal, model units (remembered: the model's
+        bounds take every part's box, each a ``np.unique`` of its faces, each time asked)."""
+        if self._hide_depth is None:
+            lo, hi = self.plan.model.bounds
+            self._hide_depth = HIDE_DEPTH * float(np.linalg.norm(np.subtract(hi, lo)))
+        return self._hide_depth
+
+    def reach(self, name: str, basic: bool) -> tuple[np.ndarray, np.ndarray, float]:
+        """The solid of ``name`` (:meth:`solids`) on the sheet: its box's lowest and highest
+        corner there (mm) and its nearest depth; a solid can hide only what lies behind it
+        and under its box on the sheet.  Remembered per part (and ``basic``): every later
+        box's :meth:`behind` asks again of the parts drawn before it."""
+        key = (name, basic)
+        if key not in self._reach:
+            box = self.plan.primitive(name).box if basic else self.chosen[name].box
+            corners = _box_corners(box)
+            mm = self.camera.project(corners)
+            self._reach[key] = (mm.min(axis=0), mm.max(axis=0),
+                                float(self.camera.depth(corners).min()))
+        return self._reach[key]
+
     def behind(self, strokes: Sequence[Stroke], drawn: Sequence[str],
                basic: bool = False) -> tuple[Stroke, ...]:
         """``strokes`` (a box's edges, drawn in its step) with the stretches that the parts
@@ -84,17 +106,9 @@ class _Ellipses:
         solids = [(name, sd) for name, sd in self.solids(basic) if name in names]
         if not solids:
             return tuple(strokes)
-        lo, hi = self.plan.model.bounds
-        depth = HIDE_DEPTH * float(np.linalg.norm(np.subtract(hi, lo)))
+        depth = self.hide_depth()
         eye = self.camera.position
-        # each solid's box on the sheet and its nearest depth: a solid can hide only what
-        # lies behind it and under its box on the sheet
-        reach = {}
-        for name, _ in solids:
-            box = self.plan.primitive(name).box if basic else self.chosen[name].box
-            corners = _box_corners(box)
-            mm = self.camera.project(corners)
-            reach[name] = (mm.min(axis=0), mm.max(axis=0), float(self.camera.depth(corners).min()))
+        reach = {name: self.reach(name, basic) for name, _ in solids}
         out: list[Stroke] = []
         for st in strokes:
             if st.kind != "scaffold" or len(st.points3d) != 2:
