@@ -186,13 +186,21 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         each point it names, in order of first mention.
     """
     points: list[tuple[float, float, float]] = []
+    # a point found again exactly (most are: the same Vec3 named in several sub-steps) is
+    # the point it was stored as: none before it lay within tol when it was stored, so the
+    # first point within tol of it is itself
+    exact: dict[tuple[float, float, float], int] = {}
 
     def find(p: Vec3) -> int:
-        x, y, z = (float(c) for c in p)
+        x, y, z = key = (float(p[0]), float(p[1]), float(p[2]))
+        i = exact.get(key)
+        if i is not None:
+            return i
         for i, (rx, ry, rz) in enumerate(points):
             if abs(rx - x) <= tol and abs(ry - y) <= tol and abs(rz - z) <= tol:
                 return i
-        points.append((x, y, z))
+        points.append(key)
+        exact[key] = len(points) - 1
         return len(points) - 1
 
     named: list[list[int]] = []
@@ -263,7 +271,10 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             busy = {x for end, x in held if end >= k - REST} | cited
             free = [x for x in ALPHABET if x not in busy]
             if free:  # the letter free longest: one never used first, in alphabetical order
-                letter[i] = min(free, key=lambda x: (ended.get(x, -1), ALPHABET.index(x)))
+                # (free is in alphabetical order, min keeps the first of equals, and a used
+                # letter ended at a step >= 0)
+                letter[i] = next((x for x in free if x not in ended), None) or min(
+                    free, key=ended.__getitem__)
             else:
                 n = len(ALPHABET)
                 while _letter(n) in busy:
