@@ -40,6 +40,7 @@ resulting line, shown to novices and apprentices).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from fractions import Fraction
 from typing import Any, Callable
 
@@ -378,24 +379,44 @@ def construct(face: Face, axis: int, ratio: float) -> Construction:
         raise ValueError(f"axis {axis!r} is not in the face normal to {face.normal}")
     r = ratio_key(ratio)
     other = face.in_axes[1] if axis == face.in_axes[0] else face.in_axes[0]
-    sk = _Sketch()
-    got = _BUILDERS[r](sk)
-    if got != r:  # the constructions are exact: this is a bug, not a tolerance question
-        raise ArithmeticError(f"construction for {r} landed at {got}")
-
-    def to3d(name: str) -> Vec3:
-        s, t = sk.at[name]
-        return face.point(s, t) if axis == face.in_axes[0] else face.point(t, s)
-
+    sketch = _sketch(r)
+    u_first = axis == face.in_axes[0]
+    # each named point once (face.point is pure: the same point wherever it is used)
+    at = {name: face.point(s, t) if u_first else face.point(t, s)
+          for name, (s, t) in sketch.at.items()}
     along = {"s": axis, "t": other, None: None}
-    lines = tuple(ConstructionLine(k, role, to3d(a), to3d(b), along[al], (a, b))
-                  for k, role, a, b, al in sk.lines)
+    lines = tuple(ConstructionLine(k, role, at[a], at[b], along[al], (a, b))
+                  for k, role, a, b, al in sketch.lines)
     lo, hi = face.box[0][axis], face.box[1][axis]
     return Construction(
         face=face, axis=axis, ratio=r, lines=lines, result=lines[-1],
         coord=lo + float(r) * (hi - lo),
-        points=tuple((name, to3d(name)) for name in ("A", "B", "C", "D", *sk.made)),
+        points=tuple((name, at[name]) for name in sketch.names),
     )
+
+
+@dataclass(frozen=True, slots=True)
+class _Sketched:
+    """A ratio's construction in local ``(s, t)`` (:class:`_Sketch`), as :func:`construct`
+    maps it onto a face."""
+
+    at: dict[str, tuple[float, float]]  #: every named point, as floats (``float`` of exact)
+    names: tuple[str, ...]  #: ``A B C D`` and the points made, in order
+    lines: tuple[tuple[str, str, str, str, str | None], ...]  #: key, role, start, end, along
+
+
+@lru_cache(maxsize=None)
+def _sketch(r: Fraction) -> _Sketched:
+    """The construction of ratio ``r`` (one of ``RATIOS``) in local coordinates, made once:
+    it depends on the ratio alone, and its exact arithmetic (``Fraction``) was most of a
+    :func:`construct` (a view's sequence constructs some hundred lines).  The points are kept
+    as floats: ``Face.point`` takes ``float`` of its fractions, the same number either way."""
+    sk = _Sketch()
+    got = _BUILDERS[r](sk)
+    if got != r:  # the constructions are exact: this is a bug, not a tolerance question
+        raise ArithmeticError(f"construction for {r} landed at {got}")
+    at = {name: (float(s), float(t)) for name, (s, t) in sk.at.items()}
+    return _Sketched(at, ("A", "B", "C", "D", *sk.made), tuple(sk.lines))
 
 
 def align(start: Any, end: Any, *, tol: float = 1e-9) -> ConstructionLine:

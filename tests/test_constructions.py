@@ -230,6 +230,35 @@ def test_unsupported_input_is_a_bug():
     assert ratio_key(1 / 3) == Fraction(1, 3) and ratio_key(0.3333333333333) == Fraction(1, 3)
 
 
+def test_sketch_made_once_per_ratio_is_the_construction_made_afresh():
+    """construct() maps a sketch made once per ratio (``_sketch``, its points as floats); on
+    seeded boxes (a -0.0 among their coordinates) it is the construction of a fresh
+    ``_Sketch`` in exact fractions mapped point by point, to the bit."""
+    from h2s_print.constructions import _BUILDERS, _Sketch
+
+    rng = np.random.default_rng(7)
+    boxes = [BOX, ((-0.0, -1.5, 0.0), (2.0, 0.0, 3.25))]
+    boxes += [tuple(map(tuple, np.sort(rng.normal(size=(2, 3)) * 40.0, axis=0)))
+              for _ in range(4)]
+    for box in boxes:
+        for face in box_faces(box):
+            for axis in face.in_axes:
+                for r in RATIOS:
+                    sk = _Sketch()
+                    _BUILDERS[r](sk)
+
+                    def to3d(name, face=face, axis=axis, sk=sk):
+                        s, t = sk.at[name]
+                        return face.point(s, t) if axis == face.in_axes[0] else face.point(t, s)
+
+                    got = construct(face, axis, float(r))
+                    want = [to3d(n) for n in ("A", "B", "C", "D", *sk.made)]
+                    assert [p for _, p in got.points] == want
+                    assert [str(p) for _, p in got.points] == [str(p) for p in want]  # -0.0
+                    assert [(ln.start, ln.end, ln.names) for ln in got.lines] == [
+                        (to3d(a), to3d(b), (a, b)) for _, _, a, b, _ in sk.lines]
+
+
 def test_align():
     ln = align((1, 2, 3), (1, 9, 3))
     assert ln.axis == 1 and ln.key == "align" and ln.role == "guide"
