@@ -46,7 +46,7 @@ def outward_normals(points: np.ndarray, faces: Sequence[Sequence[int]]
         poly = pts[list(f)]
         # each edge's cross product at once, summed in edge order from zero (accumulate
         # adds one after the other: the same sum as adding them one by one)
-        crosses = np.cross(poly, np.roll(poly, -1, axis=0))
+        crosses = np.cross(poly, np.concatenate([poly[1:], poly[:1]]))  # edge by edge
         n = np.add.accumulate(np.vstack([np.zeros((1, 3)), crosses]), axis=0)[-1]
         fc = poly.mean(axis=0)
         out.append((-n if np.dot(n, fc - centre) < 0 else n, fc))

@@ -90,8 +90,12 @@ def _sheet_polygon(camera: Camera, corners: Sequence[Vec3]) -> tuple[float, floa
     side (mm); the area over the longest side is how wide it is."""
     p = camera.project(np.asarray(corners, dtype=float))
     x, y = p[:, 0], p[:, 1]
-    area = 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
-    return area, float(np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1).max())
+
+    def roll(a: np.ndarray) -> np.ndarray:  # np.roll(a, -1, axis=0), a copy as it is, faster
+        return np.concatenate([a[1:], a[:1]])
+
+    area = 0.5 * abs(float(np.dot(x, roll(y)) - np.dot(y, roll(x))))
+    return area, float(np.linalg.norm(p - roll(p), axis=1).max())
 
 
 def _polygon_area_mm2(camera: Camera, corners: Sequence[Vec3]) -> float:
