@@ -3844,3 +3844,33 @@ def test_copies_at_the_other_corners_of_a_part_are_said_to_be_there(shared_model
                 assert len(corners) == len(copies) + 1, (view.name, x)
                 checked += 1
     assert checked == 2
+
+
+def test_segment_lookups_in_bulk_are_the_scans_they_replace():
+    """_same_segments and _Segments answer as _same_segment row by row and a scan in order
+    (the first match), and _near_segment holds wherever _on_segment does, on seeded segments
+    with ends at, just inside and just beyond the tolerance."""
+    g = seq_geometry
+    rng = np.random.default_rng(11)
+    tol = 1e-3
+    base = rng.normal(size=(40, 2, 3)) * 5.0
+    jitter = rng.choice([0.0, tol, -tol, np.nextafter(tol, 1.0), 0.5 * tol, 3 * tol],
+                        size=(200, 2, 3))
+    pick = rng.integers(0, len(base), size=200)
+    flip = rng.random(200) < 0.5
+    queries = base[pick] + jitter
+    queries[flip] = queries[flip][:, ::-1]
+    segs = g._Segments(tol)
+    kept: list[tuple[np.ndarray, np.ndarray]] = []
+    for a, b in queries:
+        want = [g._same_segment(a, b, p, q, tol) for p, q in kept]
+        assert segs.matches(a, b).tolist() == want
+        first = next((i for i, w in enumerate(want) if w), None)
+        assert segs.first(a, b) == first
+        if first is None:
+            assert segs.add(a, b) == len(kept)
+            kept.append((a, b))
+        point = a + rng.normal(size=3) * tol * rng.choice([0.1, 1.0, 10.0])
+        for p, q in kept:
+            if g._on_segment(point, p, q, tol):
+                assert g._near_segment(point, p, q, 2 * tol)

@@ -84,12 +84,14 @@ from .geometry import (
     _moving_axis,
     _on_face,
     _on_line,
+    _near_segment,
     _on_segment,
     _round,
     _runs_along,
     _same_point,
     _same_segment,
     _scaffold,
+    _Segments,
     _sheet_length,
     _sheet_polygon,
     _too_small,
@@ -247,11 +249,14 @@ class _Context(_Repeats, _Ellipses):
     _hide_depth: float | None = None
     _reach: dict[tuple[str, bool], tuple[np.ndarray, np.ndarray, float]] = field(
         default_factory=dict)
-    _edges: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
+    # each part's visible scaffold edges on the sheet: ends and box (x0, y0, x1, y1), mm
+    _edges: dict[str, list[tuple[np.ndarray, np.ndarray, tuple[float, float, float, float]]]] = \
+        field(default_factory=dict)
     _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _floor_lines: dict[str, tuple[Vec3, Vec3] | None] = field(default_factory=dict)
     _parts: tuple[list[list[str]], set[str]] | None = None
     _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
+    _drawn_segs: _Segments | None = None  # _drawn, to look lines up in (drawn_like)
     _step_words: dict[tuple[tuple[Spec, ...], str], int] = field(default_factory=dict)
     _step_subs: dict[tuple[Spec, ...], tuple[str, ...]] = field(default_factory=dict)
     names: dict[str, PartName] = field(default_factory=dict)
@@ -1308,7 +1313,7 @@ class _Context(_Repeats, _Ellipses):
             # on FG, the cab's half line: its guides step only said "Use diagonals AC and DB
             # from step 3 ... Use FG from step 3", drawing nothing)
             old = [n for p, q, n in earlier if _same_segment(a, b, p, q, self.tol)] or sorted(
-                n for p, q, n in self._drawn if n < step and _same_segment(a, b, p, q, self.tol))
+                n for _, _, n in self.drawn_like(a, b) if n < step)
             twice = any(_same_segment(a, b, p, q, self.tol)
                         for u in units.values() for p, q in u.results)
             if twice:  # the same line from another face of the parent: said once
@@ -1402,7 +1407,8 @@ class _Context(_Repeats, _Ellipses):
                     continue
                 legs_elsewhere = [(c.start, c.end) for k2, _, legs2 in turns if k2 != key
                                   for c in legs2]
-                if not any(_on_segment(point, s0, s1, 10.0 * self.tol)
+                if not any(_near_segment(point, s0, s1, 20.0 * self.tol)
+                           and _on_segment(point, s0, s1, 10.0 * self.tol)
                            for s0, s1 in on_paper + legs_elsewhere):
                     by_eye_turns.add(key)
         for unit in units.values():  # a line reused from an earlier step is not drawn again
@@ -1747,16 +1753,40 @@ class _Context(_Repeats, _Ellipses):
             return s
         # on the sheet: an edge behind the line in space still lies under it on the paper
         a, b = np.asarray(self.camera.project(np.asarray(line.points, dtype=float)), dtype=float)
+        # a line mostly on an edge has a stretch within ALONG_MM of the edge itself, so the
+        # line's box on the sheet meets the edge's grown by that much: edges whose boxes are
+        # further (grown by twice as much, well beyond rounding) cannot hold it
+        reach = 2.0 * ALONG_MM
+        lx, ly = min(a[0], b[0]) - reach, min(a[1], b[1]) - reach
+        hx, hy = max(a[0], b[0]) + reach, max(a[1], b[1]) + reach
         for part in drawn:
             if part not in self._edges:
                 prim = self.plan.primitive(part)
-                self._edges[part] = [
-                    (np.asarray(st.points_mm[0], dtype=float), np.asarray(st.points_mm[-1], dtype=float))
-                    for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)
-                    if st.kind == "scaffold"]
-            if any(_mostly_on(a, b, p, q, ALONG_MM) for p, q in self._edges[part]):
+                ends = [(np.asarray(st.points_mm[0], dtype=float),
+                         np.asarray(st.points_mm[-1], dtype=float))
+                        for st in _scaffold(part, prim, self.chosen[part].box, self.camera,
+                                            self.tol) if st.kind == "scaffold"]
+                self._edges[part] = [(p, q, (min(float(p[0]), float(q[0])),
+                                             min(float(p[1]), float(q[1])),
+                                             max(float(p[0]), float(q[0])),
+                                             max(float(p[1]), float(q[1]))))
+                                     for p, q in ends]
+            if any(x0 <= hx and lx <= x1 and y0 <= hy and ly <= y1
+                   and _mostly_on(a, b, p, q, ALONG_MM)
+                   for p, q, (x0, y0, x1, y1) in self._edges[part]):
                 return spec(f"{s.key}_along", s.same, s.pair, part=self.say(part), **f)
         return s
+
+    def drawn_like(self, a: Vec3, b: Vec3) -> list[tuple[Vec3, Vec3, int]]:
+        """The lines drawn so far (``_drawn``, in order) that are ``a-b`` within the tolerance
+        (:func:`_same_segment`), found by one array comparison (:class:`_Segments`, kept in
+        step with ``_drawn``, which only grows)."""
+        if self._drawn_segs is None:
+            self._drawn_segs = _Segments(self.tol)
+        segs = self._drawn_segs
+        for p, q, _ in self._drawn[segs.n:]:
+            segs.add(p, q)
+        return [self._drawn[i] for i in np.flatnonzero(segs.matches(a, b))]
 
     def drawn_before(self, s: Spec, step: int) -> Spec:
         """``s``, or "Use ... from step N" when an earlier step drew all its lines (the
@@ -1774,8 +1804,7 @@ class _Context(_Repeats, _Ellipses):
             if not (isinstance(v, Pts) and len(v.points) == 2) or k == "edge":
                 continue  # (an edge extended is named toward the end it is extended beyond)
             a, b = v.points
-            at = [(n, p) for p, q, n in self._drawn
-                  if n < step and _same_segment(a, b, p, q, self.tol)]
+            at = [(n, p) for p, _, n in self.drawn_like(a, b) if n < step]
             if at:
                 drawn_in[k], p = at[0]
                 if not _same_point(a, p, self.tol):
@@ -2126,21 +2155,16 @@ class _Context(_Repeats, _Ellipses):
     def guide_ids(self) -> tuple[tuple[tuple[str, str], ...], ...]:
         """Per guided draft, its lines as ``(guide id, role)``, merged within the step."""
         if self._ids is None:
-            reg: list[tuple[np.ndarray, np.ndarray]] = []
+            reg = _Segments(self.tol)  # the first guide each line is, as a scan in order
             out = []
             for d in self.guided():
                 step: dict[str, str] = {}
                 for ln in d.lines:
-                    a, b = np.asarray(ln.start), np.asarray(ln.end)
-                    gid = None
-                    for i, (p, q) in enumerate(reg):
-                        if _same_segment(a, b, p, q, self.tol):
-                            gid = f"g{i + 1}"
-                            break
-                    if gid is None:
-                        reg.append((a, b))
-                        gid = f"g{len(reg)}"
-                        self._canon[gid] = (ln.start, ln.end)
+                    i = reg.first(ln.start, ln.end)
+                    if i is None:
+                        i = reg.add(ln.start, ln.end)
+                        self._canon[f"g{i + 1}"] = (ln.start, ln.end)
+                    gid = f"g{i + 1}"
                     if gid not in step or _ROLE_RANK[ln.role] > _ROLE_RANK[step[gid]]:
                         step[gid] = ln.role
                 out.append(tuple(step.items()))

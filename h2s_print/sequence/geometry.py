@@ -77,6 +77,49 @@ def _same_segment(a: Any, b: Any, p: Any, q: Any, tol: float) -> bool:
             or (_same_point(a, q, tol) and _same_point(b, p, tol)))
 
 
+def _same_segments(a: Any, b: Any, starts: np.ndarray, ends: np.ndarray,
+                   tol: float) -> np.ndarray:
+    """:func:`_same_segment` of ``a-b`` with each row's segment ``starts[i]-ends[i]`` ((n, 3)
+    arrays), at once: (n,) bool.  The same differences, the same ``abs`` and the same
+    comparisons, element by element, so the same answers."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return (((np.abs(starts - a) <= tol).all(axis=1) & (np.abs(ends - b) <= tol).all(axis=1))
+            | ((np.abs(starts - b) <= tol).all(axis=1) & (np.abs(ends - a) <= tol).all(axis=1)))
+
+
+class _Segments:
+    """Segments kept in order, looked up within ``tol`` (:func:`_same_segment`, either end
+    first): :meth:`matches` says which, as a scan in order would, by one array comparison
+    (a view's guides and drawn lines are looked up some 100 000 times on the generated
+    assemblies)."""
+
+    def __init__(self, tol: float) -> None:
+        self.tol = tol
+        self.n = 0
+        self._ends = np.empty((16, 2, 3))
+
+    def add(self, a: Any, b: Any) -> int:
+        """Keep ``a-b`` (its index returned)."""
+        if self.n == len(self._ends):
+            self._ends = np.concatenate([self._ends, np.empty_like(self._ends)])
+        self._ends[self.n, 0], self._ends[self.n, 1] = a, b
+        self.n += 1
+        return self.n - 1
+
+    def matches(self, a: Any, b: Any) -> np.ndarray:
+        """(n,) bool: the kept segments that are ``a-b`` within ``tol``."""
+        ends = self._ends[:self.n]
+        return _same_segments(a, b, ends[:, 0], ends[:, 1], self.tol)
+
+    def first(self, a: Any, b: Any) -> int | None:
+        """The index of the first kept segment that is ``a-b`` within ``tol``, if any."""
+        if not self.n:
+            return None
+        hit = self.matches(a, b)
+        i = int(hit.argmax())
+        return i if hit[i] else None
+
+
 def _tiny_loop(mm: np.ndarray) -> bool:
     """True for a closed polyline whose extent on the sheet is under ``TINY_LOOP_MM``."""
     if len(mm) < 3 or float(np.abs(mm[0] - mm[-1]).max()) > 1e-6 * max(1.0, float(np.abs(mm).max())):
@@ -506,6 +549,13 @@ def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
     w = np.asarray(p, dtype=float) - a_
     n = float(np.linalg.norm(d))
     return n > 0.0 and float(np.linalg.norm(np.cross(d, w))) <= tol * n
+
+
+def _near_segment(p: Any, a: Any, b: Any, reach: float) -> bool:
+    """Is ``p`` inside the box of segment ``a``-``b`` grown by ``reach``?  A point within
+    ``tol`` of the segment is (:func:`_on_segment`, for any ``reach`` of ``2 tol``, well beyond
+    rounding): a test that far cheaper can skip the point-to-segment distance."""
+    return all(min(a[k], b[k]) - reach <= p[k] <= max(a[k], b[k]) + reach for k in range(3))
 
 
 def _on_segment(p: Any, a: Any, b: Any, tol: float) -> bool:
