@@ -252,6 +252,7 @@ class _Context(_Repeats, _Ellipses):
     # each part's visible scaffold edges on the sheet: ends and box (x0, y0, x1, y1), mm
     _edges: dict[str, list[tuple[np.ndarray, np.ndarray, tuple[float, float, float, float]]]] = \
         field(default_factory=dict)
+    _scaffolds: dict[str, tuple[Stroke, ...]] = field(default_factory=dict)
     _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _floor_lines: dict[str, tuple[Vec3, Vec3] | None] = field(default_factory=dict)
     _parts: tuple[list[list[str]], set[str]] | None = None
@@ -436,9 +437,7 @@ class _Context(_Repeats, _Ellipses):
         ``(corner, foot)``, or None (a first box on the floor); worked out once (every part
         on the floor asks)."""
         if first not in self._floor_lines:
-            lines = _first_lines(_scaffold(first, self.plan.primitive(first),
-                                           self.chosen[first].box, self.camera, self.tol),
-                                 self.camera, self.floor_z(False))
+            lines = _first_lines(self.scaffold(first), self.camera, self.floor_z(False))
             self._floor_lines[first] = None if lines is None else lines.floor
         return self._floor_lines[first]
 
@@ -1073,7 +1072,7 @@ class _Context(_Repeats, _Ellipses):
         cand = self.chosen[part]
         prim = self.plan.primitive(part)
         words = self.words
-        strokes = _scaffold(part, prim, cand.box, self.camera, self.tol)
+        strokes = self.scaffold(part)
         shape = words.shape(prim.type)
         taper = self.taper_specs(part)  # the box's taper: before it is drawn on its lines
         copies = list(repeat)
@@ -1761,11 +1760,9 @@ class _Context(_Repeats, _Ellipses):
         hx, hy = max(a[0], b[0]) + reach, max(a[1], b[1]) + reach
         for part in drawn:
             if part not in self._edges:
-                prim = self.plan.primitive(part)
                 ends = [(np.asarray(st.points_mm[0], dtype=float),
                          np.asarray(st.points_mm[-1], dtype=float))
-                        for st in _scaffold(part, prim, self.chosen[part].box, self.camera,
-                                            self.tol) if st.kind == "scaffold"]
+                        for st in self.scaffold(part) if st.kind == "scaffold"]
                 self._edges[part] = [(p, q, (min(float(p[0]), float(q[0])),
                                              min(float(p[1]), float(q[1])),
                                              max(float(p[0]), float(q[0])),
@@ -1922,13 +1919,20 @@ class _Context(_Repeats, _Ellipses):
         ends = [np.asarray(q, dtype=float) for ln in con.lines for q in (ln.start, ln.end)]
         return any(on(p, missing) and not on(p, drawn) for p in ends)
 
+    def scaffold(self, part: str) -> tuple[Stroke, ...]:
+        """``part``'s scaffold in its selected box (:func:`_scaffold`), made once: its step,
+        the steps after it (edges along, ends) and the floor line all ask for it."""
+        if part not in self._scaffolds:
+            self._scaffolds[part] = _scaffold(part, self.plan.primitive(part),
+                                              self.chosen[part].box, self.camera, self.tol)
+        return self._scaffolds[part]
+
     def scaffold_ends(self, part: str) -> list[tuple[np.ndarray, np.ndarray]]:
         """The 3D ends of ``part``'s scaffold strokes in its selected box (computed once)."""
         if part not in self._scaffold_ends:
-            prim = self.plan.primitive(part)
             self._scaffold_ends[part] = [
                 (np.asarray(st.points3d[0], dtype=float), np.asarray(st.points3d[-1], dtype=float))
-                for st in _scaffold(part, prim, self.chosen[part].box, self.camera, self.tol)]
+                for st in self.scaffold(part)]
         return self._scaffold_ends[part]
 
     def box_around(self, part: str) -> list[_Line]:
@@ -1978,9 +1982,8 @@ class _Context(_Repeats, _Ellipses):
                 made = self.primitive_drafts(p, gi == 0, len(drafts) + 1, described, drawn=drawn,
                                              repeat=repeat, copies_of=rest)
                 if rest:
-                    others = [_Draft(q, "primitive", False, (),
-                                     _scaffold(q, self.plan.primitive(q), boxes[q], self.camera,
-                                               self.tol), "") for q in rest]
+                    others = [_Draft(q, "primitive", False, (), self.scaffold(q), "")
+                              for q in rest]
                     made[-1] = self.merge_group(made[-1], [p, *rest], others, repeat)
                 made += [self.spacing_draft(row, axis, face, boxes, shape)
                          for row, axis, face in rows]

@@ -18,7 +18,6 @@ from .geometry import (
     _Line,
     _mesh_area,
     _polygon_area_mm2,
-    _scaffold,
     _too_small,
 )
 from .words import _cap, _join, _ratio_phrases, _raw, _substep_of, _t
@@ -323,8 +322,7 @@ class _Repeats:
                               part=self.say(q)))
         specs.append(spec("space_place", parts=_join(placed), shape=shape))
         pair = _join([self.say(q) for q in row[:2]])
-        strokes = tuple(st for q in row[2:] for st in _scaffold(
-            q, self.plan.primitive(q), boxes[q], self.camera, self.tol))
+        strokes = tuple(st for q in row[2:] for st in self.scaffold(q))  # (boxes: selected)
         return _Draft(row[2], "primitive", False,
                       tuple(_Line(ln.role, ln.start, ln.end) for ln in sp.lines), strokes,
                       _t("headline.spaced", Parts=_cap(_join(placed)), shape=shape, first=pair),
