@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from collections import OrderedDict
 from typing import Any
 
 import numpy as np
@@ -21,10 +22,29 @@ log = logging.getLogger(__name__)
 MERGE_TOL = 1e-6
 
 
+#: Plans whose adjusted parts are kept (:func:`_adjusted_parts`), the most recently used.
+_ADJUSTED_CACHE = 4
+_ADJUSTED: "OrderedDict[int, tuple[Any, dict[str, Part]]]" = OrderedDict()
+
+
 def _adjusted_parts(plan: Any) -> dict[str, Part]:
+    """Each part's mesh mapped into its selected box (:func:`~h2s_print.contours.adjust_part`).
+
+    The same :class:`Part` objects for every view of a plan while it is among the last
+    :data:`_ADJUSTED_CACHE` asked for: a part's welded mesh is remembered per part object
+    (``contours._Mesh.of``), so the second view of a tutorial no longer welds its adjusted
+    meshes again; the mapping is a pure function of the plan, so the parts are the same."""
+    hit = _ADJUSTED.get(id(plan))
+    if hit is not None and hit[0] is plan:  # the plan is held, so its id is its own
+        _ADJUSTED.move_to_end(id(plan))
+        return dict(hit[1])
     chosen = plan.chosen()
-    return {p.name: adjust_part(p, plan.primitive(p.name).box, chosen[p.name].box)
-            for p in plan.model.parts}
+    parts = {p.name: adjust_part(p, plan.primitive(p.name).box, chosen[p.name].box)
+             for p in plan.model.parts}
+    _ADJUSTED[id(plan)] = (plan, parts)
+    while len(_ADJUSTED) > _ADJUSTED_CACHE:
+        _ADJUSTED.popitem(last=False)
+    return dict(parts)
 
 
 def _frame_points(plan: Any, adjusted: dict[str, Part]) -> np.ndarray:
