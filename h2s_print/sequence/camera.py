@@ -56,16 +56,21 @@ def _frame_points(plan: Any, adjusted: dict[str, Part]) -> np.ndarray:
     return np.vstack([p for p in pts if len(p)])
 
 
-def _guide_points(plan: Any, camera: Camera, tol: float) -> np.ndarray:
-    """End points of every guide any level of this view could show (eyeball rule ignored)."""
+def _guide_points(plan: Any, camera: Camera, tol: float,
+                  lines: dict[tuple[str, int], tuple] | None = None) -> np.ndarray:
+    """End points of every guide any level of this view could show (eyeball rule ignored);
+    with ``lines``, each anchor's :func:`_anchor_lines` kept there by ``(candidate id, anchor
+    index)``."""
     by_id = {c.id: c for c in plan.candidates}
     pts: list[Vec3] = []
     for cand in plan.chosen().values():
-        for anchor in cand.anchors:
+        for k, anchor in enumerate(cand.anchors):
             if anchor.face_normal == anchor.axis:
                 continue
-            _, _, own, carry = _anchor_lines(anchor, by_id[anchor.parent], cand, plan, camera,
-                                             tol)
+            made = _anchor_lines(anchor, by_id[anchor.parent], cand, plan, camera, tol)
+            if lines is not None:
+                lines[(cand.id, k)] = made
+            _, _, own, carry = made
             pts += [p for ln in own + carry for p in (ln.start, ln.end)]
     pts += _floor_points(plan)
     return np.array(pts, dtype=float).reshape(-1, 3)
@@ -89,10 +94,16 @@ def _floor_points(plan: Any) -> list[Vec3]:
 
 
 def _fit_camera(plan: Any, view: ViewSpec, paper: PaperSpec, adjusted: dict[str, Part],
-                tol: float) -> Camera:
+                tol: float, lines: dict[tuple[str, int], tuple] | None = None) -> Camera:
+    """The view's camera (:func:`view_camera`); with ``lines``, the anchors' lines the fit
+    worked out (:func:`_guide_points`) are kept there when they are those of the camera
+    returned (the first one, not scaled down), for the steps to use again."""
     framed = _frame_points(plan, adjusted)
     camera = make_camera(view, framed, paper)
-    guides = _guide_points(plan, camera, tol)
+    made: dict[tuple[str, int], tuple] = {}
+    guides = _guide_points(plan, camera, tol, made)
+    if lines is not None:
+        lines.update(made)  # taken back below if the camera changes
     if not len(guides):
         return camera
     m = paper.margin_mm
@@ -112,6 +123,8 @@ def _fit_camera(plan: Any, view: ViewSpec, paper: PaperSpec, adjusted: dict[str,
     lo = centre + k * (flo - mid)
     hi = centre + k * (fhi - mid)
     log.debug("view %r: guides reach beyond the margins; drawing scaled by %.4f", view.name, k)
+    if lines is not None:
+        lines.clear()  # (a face's area on the sheet, which chose it, changes with the scale)
     return make_camera(view, framed, paper, area_mm=(lo[0], lo[1], hi[0], hi[1]))
 
 

@@ -253,6 +253,8 @@ class _Context(_Repeats, _Ellipses):
     _edges: dict[str, list[tuple[np.ndarray, np.ndarray, tuple[float, float, float, float]]]] = \
         field(default_factory=dict)
     _scaffolds: dict[str, tuple[Stroke, ...]] = field(default_factory=dict)
+    # the anchors' lines the camera fit worked out with this camera, by (candidate, anchor)
+    _anchor_memo: dict[tuple[str, int], tuple] = field(default_factory=dict)
     _scaffold_ends: dict[str, list[tuple[np.ndarray, np.ndarray]]] = field(default_factory=dict)
     _floor_lines: dict[str, tuple[Vec3, Vec3] | None] = field(default_factory=dict)
     _parts: tuple[list[list[str]], set[str]] | None = None
@@ -1139,7 +1141,7 @@ class _Context(_Repeats, _Ellipses):
         reused_for: dict[tuple[Vec3, Vec3], str] = {}  # a line reused: the side it places
         contact_of: dict[Spec, list[Any]] = {}  # a sentence placing sides on faces: anchors
         faces: dict[tuple[str, int, str], tuple[Face, list[_Line]]] = {}
-        for anchor in cand.anchors:
+        for ai, anchor in enumerate(cand.anchors):
             parent = self.by_id[anchor.parent]
             if anchor.face_normal == anchor.axis:
                 flat.append(spec("flat", side=words.side(anchor.axis, anchor.end),
@@ -1151,12 +1153,10 @@ class _Context(_Repeats, _Ellipses):
                     (words.side(anchor.axis, anchor.end), words.face(anchor.axis, pend),
                      anchor.axis, anchor.end == pend, anchor))
                 continue
-            face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan, self.camera,
-                                                  self.tol, floor_z, foot)
+            face, con, own, carry = self.anchor_lines(cand, ai, floor_z, foot)
             if floor_z is not None and self.floor_leg(carry, floor_z, foot) is None:
                 # turning on the floor only where a line from its foot reaches the turn
-                face, con, own, carry = _anchor_lines(anchor, parent, cand, self.plan,
-                                                      self.camera, self.tol)
+                face, con, own, carry = self.anchor_lines(cand, ai)
             if carry and sum(_sheet_length(self.camera, ln) for ln in carry) < TINY_CARRY_MM:
                 carry = []  # (the chair's seat: "Extend QR as pictured" by nothing visible)
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
@@ -1919,6 +1919,20 @@ class _Context(_Repeats, _Ellipses):
         ends = [np.asarray(q, dtype=float) for ln in con.lines for q in (ln.start, ln.end)]
         return any(on(p, missing) and not on(p, drawn) for p in ends)
 
+    def anchor_lines(self, cand: Any, k: int, floor: float | None = None, foot: Any = None
+                     ) -> tuple[Face, Any, list[_Line], list[_Line]]:
+        """:func:`_anchor_lines` of ``cand``'s anchor ``k`` in this view; not turning on a
+        floor, those the camera fit worked out already with this camera (``_anchor_memo``,
+        :func:`_fit_camera`), when it kept them (lists copied: the caller's own)."""
+        if floor is None and foot is None:
+            hit = self._anchor_memo.get((cand.id, k))
+            if hit is not None:
+                face, con, own, carry = hit
+                return face, con, list(own), list(carry)
+        anchor = cand.anchors[k]
+        return _anchor_lines(anchor, self.by_id[anchor.parent], cand, self.plan, self.camera,
+                             self.tol, floor, foot)
+
     def scaffold(self, part: str) -> tuple[Stroke, ...]:
         """``part``'s scaffold in its selected box (:func:`_scaffold`), made once: its step,
         the steps after it (edges along, ends) and the floor line all ask for it."""
@@ -2340,7 +2354,8 @@ def _numbering(plan: Any, chosen: dict[str, Any]) -> list[str]:
 def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSettings) -> _Context:
     adjusted = _adjusted_parts(plan)
     tol = _tolerance(plan)
-    camera = _fit_camera(plan, view, paper, adjusted, tol)
+    lines: dict[tuple[str, int], tuple] = {}
+    camera = _fit_camera(plan, view, paper, adjusted, tol, lines)
     vps = vanishing_points(camera)
     chosen = plan.chosen()
     corners = np.vstack([_box_corners(c.box) for c in chosen.values()])
@@ -2348,6 +2363,7 @@ def _context(plan: Any, view: ViewSpec, paper: PaperSpec, settings: SequenceSett
     ctx = _Context(plan=plan, camera=camera, settings=settings, vps=vps,
                    words=_Words(camera, vps, bounds), tol=tol,
                    by_id={c.id: c for c in plan.candidates}, chosen=chosen, adjusted=adjusted,
+                   _anchor_memo=lines,
                    originals={p.name: p for p in plan.model.parts},
                    names=display_names([p.name for p in plan.model.parts],
                                        label_format=templates.lookup("pages", "parts.label"),
