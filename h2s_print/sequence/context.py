@@ -261,7 +261,7 @@ class _Context(_Repeats, _Ellipses):
     _drawn: list[tuple[Vec3, Vec3, int]] = field(default_factory=list)  # guide lines, by step
     _drawn_segs: _Segments | None = None  # _drawn, to look lines up in (drawn_like)
     _step_words: dict[tuple[tuple[Spec, ...], str], int] = field(default_factory=dict)
-    _step_subs: dict[tuple[Spec, ...], tuple[str, ...]] = field(default_factory=dict)
+    _step_subs: dict[tuple[Spec, ...], int] = field(default_factory=dict)  # their words
     names: dict[str, PartName] = field(default_factory=dict)
 
 
@@ -722,8 +722,10 @@ class _Context(_Repeats, _Ellipses):
         Remembered per step text: packing parts into steps asks again for groups it tried
         before (the book's four tutorials: 793 counts of 437 distinct steps); the count
         depends on the specs and headline alone (specs are frozen values).  The sentences,
-        lettered alone, depend on the lettered sub-steps alone: remembered apart, for other
-        headlines and for specs that come out alike (the book: 470 letterings, 363 distinct)."""
+        lettered alone, depend on the lettered sub-steps alone: their words are remembered
+        apart, for other headlines and for specs that come out alike (the book: 470
+        letterings, 363 distinct).  The text joins the headline and the numbered sentences
+        with spaces, so its words are the headline's and theirs (``str.split``)."""
         key = (tuple(specs), headline)
         if key in self._step_words:
             return self._step_words[key]
@@ -731,10 +733,9 @@ class _Context(_Repeats, _Ellipses):
         subs = self._step_subs.get(lettered)
         if subs is None:  # one step lettered alone: the same sentences under any headline
             (said, _), = letter_steps([lettered], self.tol, _substep, _join)
-            subs = self._step_subs[lettered] = tuple(said)
-        text = " ".join([headline] + [_t("step_text.number", n=k + 1, text=x)
-                                      for k, x in enumerate(subs)])
-        words = self._step_words[key] = len(text.split())
+            subs = self._step_subs[lettered] = sum(
+                len(_t("step_text.number", n=k + 1, text=x).split()) for k, x in enumerate(said))
+        words = self._step_words[key] = len(headline.split()) + subs
         return words
 
     def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
