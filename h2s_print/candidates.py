@@ -178,6 +178,9 @@ RESTORED_PER_RELATION = 4
 #: Symmetric ratio pairs used to restore bisector and coaxial relations.
 SYMMETRIC = ((-1.0, 2.0), (-0.5, 1.5), (0.0, 1.0), (0.25, 0.75), (1 / 3, 2 / 3))
 _EPS = 1e-9
+#: Pools of at most this many ends are ranked one row at a time (``_Generator.ranked_few``):
+#: the array path's fixed cost (~0.2 ms) is most of a small pool's time.
+SMALL_POOL = 24
 
 
 # --------------------------------------------------------------------------- values
@@ -877,6 +880,8 @@ class _Generator:
         if not pool:
             return []
         n_lo, n_hi = len(ends["lo"]), len(ends["hi"])
+        if len(pool) <= SMALL_POOL:
+            return self.ranked_few(part, axis, pool, n_lo, n_hi, fresh, per_group, total)
         value = np.array([e.value for e in pool])
         pp = self._codes([e.parent_part for e in pool])  # parent part, by code
         parent = self._codes([e.anchor.parent for e in pool])  # parent candidate, by code
@@ -1018,6 +1023,99 @@ class _Generator:
         rows = order[kept_at].tolist()
         return [self._option(pool, int(first[x]), int(second[x]), float(los[x]),
                              float(his[x]), int(free[x]), axis, orig) for x in rows]
+
+    def ranked_few(self, part: str, axis: int, pool: Sequence[_End], n_lo: int, n_hi: int,
+                   fresh: frozenset[str], per_group: int, total: int | None
+                   ) -> list[_AxisOption]:
+        """:meth:`ranked_axis_options` of a small ``pool`` (its ``lo``, ``hi`` then ``mid``
+        ends), one row at a time: the same rows in the same order, the same float
+        expressions (numpy's elementwise ``+ - * /``, ``abs`` and ``maximum`` round as
+        Python's do) and the same total order of ranks, so the same options.  Restoring asks
+        thousands of times with a handful of ends, where the arrays' fixed cost is most of
+        the time (the test compares this path with the definition too)."""
+        orig = self.ctx.prims[part].box
+        terms = _change_terms(orig, axis, self.ctx.settings.max_change)
+        length = orig[1][axis] - orig[0][axis]
+        rows: list[tuple[int, int, float, float, float]] = []  # (first, second, lo, hi, free)
+        if _is_flat(orig, axis):  # an end paired with its own twin
+            rows = [(i, i, pool[i].value, pool[i].value, 0.0) for i in range(n_lo)]
+        else:
+            degenerate = DEGENERATE * max(length, 1e-300)
+            for i in range(n_lo):
+                e = pool[i]
+                for j in range(n_lo, n_lo + n_hi):
+                    f = pool[j]
+                    if (_within(terms, e.value, f.value)
+                            and not (e.parent_part == f.parent_part
+                                     and e.anchor.parent != f.anchor.parent)
+                            and not f.value - e.value <= degenerate):
+                        rows.append((i, j, e.value, f.value, 0.0))
+            for i, e in enumerate(pool):
+                v = e.value
+                if i < n_lo:
+                    rows.append((i, -1, v, v + length, 1.0))
+                elif i < n_lo + n_hi:
+                    rows.append((i, -1, v - length, v, 1.0))
+                else:
+                    rows.append((i, -1, v - 0.5 * length, v + 0.5 * length, 1.0))
+        pairs = self.preserved_pairs()
+        checks: dict[str, tuple[list[Relation], float, float]] = {}  # parent id -> relations
+        for e in pool:
+            pid = e.anchor.parent
+            if pid not in checks:
+                pbox = self.ctx.cands[pid].box
+                checks[pid] = ([rel for rel in pairs.get((part, e.parent_part), ())
+                                if _relation_decides(rel, axis)], pbox[0][axis], pbox[1][axis])
+
+        def keeps(pid: str, lo: float, hi: float) -> bool:
+            rels, p_lo, p_hi = checks[pid]
+            return all(_relation_axis_holds(rel, axis, lo, hi, p_lo, p_hi) if rel.a == part
+                       else _relation_axis_holds(rel, axis, p_lo, p_hi, lo, hi) for rel in rels)
+
+        keys = [_anchor_key(e.anchor) for e in pool]
+        key_rank = [0] * len(pool)
+        for r, i in enumerate(sorted(range(len(pool)), key=keys.__getitem__)):
+            key_rank[i] = r
+        a_ref, floor = self.ctx.a_ref, 1e-6 * self.ctx.a_ref
+        norm, ext, mid = _norm_length(orig, axis), _extent(orig, axis), _mid(orig, axis)
+        ranked = []  # (rank, row)
+        for row in rows:
+            i, j, lo, hi, free = row
+            if not _within(terms, lo, hi):
+                continue
+            a = pool[i].anchor
+            b = pool[j].anchor if j >= 0 else a
+            if not keeps(a.parent, lo, hi) or (b.parent != a.parent and not keeps(b.parent, lo, hi)):
+                continue
+            cost = abs((hi - lo) - ext) / norm + abs(0.5 * (lo + hi) - mid) / norm + free
+            area_i = max(pool[i].face_area, floor)
+            if j < 0:
+                diff = _lines_of((a.ratio, a.ratio)) * a_ref / area_i + 0.0
+            elif (a.parent, a.face_normal, a.face_side) == (b.parent, b.face_normal, b.face_side):
+                diff = _lines_of((a.ratio, b.ratio)) * a_ref / max(pool[j].face_area, floor)
+            else:
+                diff = (_lines_of((a.ratio, a.ratio)) * a_ref / area_i
+                        + _lines_of((b.ratio, b.ratio)) * a_ref / max(pool[j].face_area, floor))
+            diff = diff * self.ctx.settings.guide_cost
+            score = self.w_a * cost + self.w_d * diff
+            r_second = key_rank[j] if j >= 0 and j != i else -1
+            ranked.append(((score, lo, hi, key_rank[i], r_second), row))
+        ranked.sort(key=lambda x: x[0])
+        # each option's place in its group of parent parts (and freshness), as the arrays do
+        places: dict[tuple, int] = {}
+        kept: list[tuple[int, int]] = []  # (place, position in rank order)
+        for at, (_, (i, j, _, _, _)) in enumerate(ranked):
+            group: tuple = ()
+            if total is not None:
+                used = (pool[i],) if j < 0 else (pool[i], pool[j])
+                group = (frozenset(u.parent_part for u in used),
+                         any(bool(fresh) and u.anchor.parent in fresh for u in used))
+            place = places[group] = places.get(group, -1) + 1
+            if place < per_group:
+                kept.append((place, at))
+        chosen = sorted(at for _, at in (sorted(kept)[:total] if total is not None else kept))
+        return [self._option(pool, i, j, lo, hi, int(free), axis, orig)
+                for i, j, lo, hi, free in (ranked[at][1] for at in chosen)]
 
     def _option(self, pool: Sequence[_End], i: int, j: int, lo: float, hi: float, free: int,
                 axis: int, orig: Box) -> _AxisOption:

@@ -496,13 +496,17 @@ def _generator_model(model):
     return prims, detect_relations(prims)
 
 
+@pytest.mark.parametrize("path", ["arrays", "few", "either"])
 @pytest.mark.parametrize("model", ["camera", "shared-faces"])
-def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
+def test_ranked_axis_options_equal_the_definition(model, path, monkeypatch):
     """Issue 13: the options of every axis, computed on arrays, are exactly those of the
     definition (every option built and ranked one by one), at every level and in stage (ii),
-    on the camera and on a generated 12-part assembly with shared faces and relations."""
+    on the camera and on a generated 12-part assembly with shared faces and relations; so
+    are those of the small pools' path (``ranked_few``), here made to rank every pool."""
     from h2s_print import candidates as C
 
+    if path != "either":
+        monkeypatch.setattr(C, "SMALL_POOL", -1 if path == "arrays" else 10**9)
     prims, rels = _generator_model(model)
     fast = C._Generator.ranked_axis_options
     checked = []
@@ -517,6 +521,29 @@ def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
     monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
     generate_candidates(prims, rels, SolverSettings())
     assert len(checked) > 10 and sum(checked) > 30
+
+
+def test_ranked_few_equals_the_arrays(monkeypatch):
+    """The small pools' path builds the very options of the array path, costs and areas too,
+    on every pool of a generated assembly (issue 13's speed-up of restoring)."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model("shared-faces")
+    fast = C._Generator.ranked_axis_options
+    sizes = []
+
+    def both(self, part, axis, ends, fresh, per_group, total):
+        monkeypatch.setattr(C, "SMALL_POOL", -1)
+        want = fast(self, part, axis, ends, fresh, per_group, total)
+        monkeypatch.setattr(C, "SMALL_POOL", 10**9)
+        got = fast(self, part, axis, ends, fresh, per_group, total)
+        assert got == want, (part, axis)
+        sizes.append(len(got))
+        return got
+
+    monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
+    generate_candidates(prims, rels, SolverSettings())
+    assert len(sizes) > 10 and sum(sizes) > 30
 
 
 @pytest.mark.parametrize("kind", ["coplanar", "bisector", "coaxial"])
