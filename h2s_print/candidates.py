@@ -428,6 +428,25 @@ class _AxisOption:
         return not self.anchors
 
 
+@dataclass(frozen=True, slots=True)
+class _Lineage:
+    """What a new candidate of a part learns from its parents alone (``_Generator.lineage``).
+
+    Attributes:
+        ancestry: part -> candidate id over all ancestors (shared: never to be changed).
+        checks: the preserved relations with those ancestors, in ``_Context.preserved``
+            order, each ``(relation, ancestor box, part is the relation's a, axis, point,
+            ancestor's coordinate)``; ``point`` 0/1/2 reads the candidate's lo/hi/mid along
+            ``axis`` (the one-axis relations, :func:`_holds`), -1 a coaxial one
+            (:func:`relation_holds` on both boxes).
+        depth: the candidate's depth, 1 + the parents' largest.
+    """
+
+    ancestry: dict[str, str]
+    checks: tuple[tuple[Relation, Box, bool, int, int, float], ...]
+    depth: int
+
+
 @dataclass
 class _Context:
     """Mutable bookkeeping while generating (never escapes this module)."""
@@ -444,11 +463,10 @@ class _Context:
     ancestry: dict[str, dict[str, str]] = field(default_factory=dict)
     counters: dict[str, int] = field(default_factory=dict)
     seen: dict[tuple, str] = field(default_factory=dict)  # (part, box, parents) -> id
-    # (part, parent ids) -> merged ancestry or None (_Generator.merged_ancestry): a stored
+    # (part, parent ids) -> their lineage or None (_Generator.lineage): a stored
     # candidate's ancestry never changes, and a part's combinations share few parent sets
     # (a generated 40-part model: 122 268 asks, 19 147 distinct)
-    merged: dict[tuple[str, tuple[str, ...]], dict[str, str] | None] = field(
-        default_factory=dict)
+    merged: dict[tuple[str, tuple[str, ...]], _Lineage | None] = field(default_factory=dict)
     # anchors -> their E_e (_Generator.difficulty): combinations of one part's per-axis
     # options repeat anchor sets (a generated 40-part model: 69 119 asks, 45 037 distinct)
     difficulty: dict[tuple[Anchor, ...], float] = field(default_factory=dict)
@@ -642,9 +660,10 @@ class _Generator:
         self.w_a, self.w_d = s.weight_adjust, s.weight_difficulty
 
     # ------------------------------------------------------------------ bookkeeping
-    def merged_ancestry(self, part: str, parent_ids: Sequence[str]) -> dict[str, str] | None:
-        """part -> candidate id over all ancestors, or None when inconsistent (remembered:
-        the dict returned is shared, never to be changed)."""
+    def lineage(self, part: str, parent_ids: Sequence[str]) -> _Lineage | None:
+        """The merged ancestry of ``part``'s candidate off ``parent_ids`` with what follows
+        from it, or None when inconsistent (two candidates of one part, or one of ``part``
+        itself); remembered per (part, parent ids)."""
         key = (part, tuple(parent_ids))
         if key in self.ctx.merged:
             return self.ctx.merged[key]
@@ -656,16 +675,45 @@ class _Generator:
                     break
             if merged is None:
                 break
-        self.ctx.merged[key] = merged
-        return merged
+        found = None
+        if merged is not None:
+            checks = []
+            for other, rel in self.ctx.preserved.get(part, ()):
+                cid = merged.get(other)
+                if cid is None:
+                    continue
+                obox, here_is_a = self.ctx.cands[cid].box, rel.a == part
+                if rel.type == "coaxial":
+                    checks.append((rel, obox, here_is_a, 0, -1, 0.0))
+                    continue
+                if rel.type == "coplanar":
+                    mine = rel.detail.get("a_end" if here_is_a else "b_end", "lo")
+                    theirs = rel.detail.get("b_end" if here_is_a else "a_end", "lo")
+                    point = 0 if mine == "lo" else 1
+                    value = obox[0 if theirs == "lo" else 1][rel.axis]
+                else:
+                    point, value = 2, 0.5 * (obox[0][rel.axis] + obox[1][rel.axis])
+                checks.append((rel, obox, here_is_a, rel.axis, point, value))
+            found = _Lineage(merged, tuple(checks),
+                             1 + max(self.ctx.cands[p].depth for p in parent_ids))
+        self.ctx.merged[key] = found
+        return found
 
-    def keeps_relations(self, part: str, box: Box, ancestry: Mapping[str, str]) -> bool:
-        for other, rel in self.ctx.preserved.get(part, ()):
-            cid = ancestry.get(other)
-            if cid is None:
+    @staticmethod
+    def keeps_relations(box: Box, lineage: _Lineage) -> bool:
+        """Does ``box`` keep every preserved relation with the ancestors of ``lineage``?
+
+        :func:`_holds` with the ancestor's side read once per lineage: the same arithmetic
+        (``|x - y|`` is ``|y - x|`` and ``max`` does not depend on its arguments' order),
+        so the same answers."""
+        for rel, obox, here_is_a, axis, point, theirs in lineage.checks:
+            if point < 0:
+                if not (relation_holds(rel, box, obox) if here_is_a
+                        else relation_holds(rel, obox, box)):
+                    return False
                 continue
-            obox = self.ctx.cands[cid].box
-            if not (_holds(rel, box, obox) if rel.a == part else _holds(rel, obox, box)):
+            mine = box[point][axis] if point < 2 else 0.5 * (box[0][axis] + box[1][axis])
+            if not abs(mine - theirs) <= rel.tolerance + _EPS * max(1.0, abs(mine), abs(theirs)):
                 return False
         return True
 
@@ -714,24 +762,23 @@ class _Generator:
         """
         prim = self.ctx.prims[part]
         parent_ids = sorted({a.parent for a in anchors} | set(extra_parents))
-        ancestry = self.merged_ancestry(part, parent_ids)  # remembered: the cheapest test
-        if ancestry is None:
+        lineage = self.lineage(part, parent_ids)  # remembered: the cheapest test
+        if lineage is None:
             return None
         if prim.type == "cylinder" and prim.axis is not None:
             box = _round_cross(prim, box, anchors, self.ctx.settings.max_change)
             if box is None:
                 return None
-        if not self.keeps_relations(part, box, ancestry):
+        if not self.keeps_relations(box, lineage):
             return None
-        depth = 1 + max(self.ctx.cands[p].depth for p in parent_ids)
         cand = Candidate(id="", part=part, box=box, original=False, parents=tuple(parent_ids),
-                         depth=depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
+                         depth=lineage.depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
                          unguided_axes=tuple(ax for ax in range(3)
                                              if not any(a.axis == ax for a in anchors)),
                          cost_adjust=_adjust_cost(prim.box, box, anchors),
                          cost_difficulty=self.difficulty(anchors), primitive_type=prim.type,
                          axis=prim.axis)
-        return cand, ancestry
+        return cand, lineage.ancestry
 
     def commit(self, batch: list[tuple[Candidate, dict]], again: bool = False
                ) -> list[Candidate]:

@@ -523,6 +523,31 @@ def test_ranked_axis_options_equal_the_definition(model, path, monkeypatch):
     assert len(checked) > 10 and sum(checked) > 30
 
 
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_keeps_relations_is_holds_with_every_ancestor(model, monkeypatch):
+    """build's relation test (the ancestors' side read once per lineage) answers as
+    ``_holds`` asked of every preserved relation with an ancestor, on every box built."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model(model)
+    fast = C._Generator.keeps_relations
+    answers = []
+
+    def both(box, lineage):
+        got = fast(box, lineage)
+        want = True
+        for rel, obox, here_is_a, *_ in lineage.checks:
+            want = want and (C._holds(rel, box, obox) if here_is_a else C._holds(rel, obox, box))
+        assert got == want, (box, lineage)
+        answers.append(got)
+        return got
+
+    monkeypatch.setattr(C._Generator, "keeps_relations", staticmethod(both))
+    generate_candidates(prims, rels, SolverSettings())
+    assert len(answers) > 10 and True in answers
+    assert model == "camera" or False in answers  # the camera's candidates break none
+
+
 def test_ranked_few_equals_the_arrays(monkeypatch):
     """The small pools' path builds the very options of the array path, costs and areas too,
     on every pool of a generated assembly (issue 13's speed-up of restoring)."""
