@@ -470,6 +470,11 @@ class _Context:
     # anchors -> their E_e (_Generator.difficulty): combinations of one part's per-axis
     # options repeat anchor sets (a generated 40-part model: 69 119 asks, 45 037 distinct)
     difficulty: dict[tuple[Anchor, ...], float] = field(default_factory=dict)
+    # (face key, its anchors' (ratio, across)) -> the face's term of E_e (a stored
+    # candidate's face never changes; the anchor sets above share their faces)
+    face_terms: dict[tuple, float] = field(default_factory=dict)
+    # part -> per axis (L, input length, input midpoint): the terms of _axis_cost
+    axis_terms: dict[str, tuple[tuple[float, float, float], ...]] = field(default_factory=dict)
 
 
 def _extent(box: Box, axis: int) -> float:
@@ -745,13 +750,41 @@ class _Generator:
                                a.axis != (1 if a.face_normal == 0 else 0))
             groups.setdefault(key, []).append((a.ratio, across))
         total = 0.0
+        terms = self.ctx.face_terms
         for key in sorted(groups):
-            pid, normal, _, axis = key
-            area = _face_area_of(self.ctx.cands[pid].box, axis, normal)
-            total += (_face_lines_of(tuple(groups[key])) * self.ctx.a_ref
-                      / max(area, 1e-6 * self.ctx.a_ref))
+            face = (key, tuple(groups[key]))
+            term = terms.get(face)
+            if term is None:
+                pid, normal, _, axis = key
+                area = _face_area_of(self.ctx.cands[pid].box, axis, normal)
+                term = terms[face] = (_face_lines_of(face[1]) * self.ctx.a_ref
+                                      / max(area, 1e-6 * self.ctx.a_ref))
+            total += term
         cost = self.ctx.difficulty[memo] = self.ctx.settings.guide_cost * total
         return cost
+
+    def adjust_cost(self, part: str, box: Box, anchors: Sequence[Anchor]) -> float:
+        """:func:`_adjust_cost` of a box of ``part``, its input box's terms found once per
+        part: the same expressions in the same order, so the same E_d."""
+        terms = self.ctx.axis_terms.get(part)
+        if terms is None:
+            orig = self.ctx.prims[part].box
+            terms = self.ctx.axis_terms[part] = tuple(
+                (_norm_length(orig, ax), _extent(orig, ax), _mid(orig, ax)) for ax in range(3))
+        ends: tuple[set[str], set[str], set[str]] = (set(), set(), set())
+        for a in anchors:
+            ends[a.axis].add(a.end)
+        total = 0.0
+        for axis in range(3):
+            n_free = 2 - len(ends[axis])
+            if n_free >= 2:
+                total += 2.0
+                continue
+            length, extent, mid = terms[axis]
+            lo, hi = box[0][axis], box[1][axis]
+            total += (abs((hi - lo) - extent) / length + abs(0.5 * (lo + hi) - mid) / length
+                      + float(n_free))
+        return total
 
     def build(self, part: str, box: Box, anchors: Sequence[Anchor],
               extra_parents: Sequence[str] = ()) -> tuple[Candidate, dict] | None:
@@ -771,11 +804,11 @@ class _Generator:
                 return None
         if not self.keeps_relations(box, lineage):
             return None
+        axes = {a.axis for a in anchors}
         cand = Candidate(id="", part=part, box=box, original=False, parents=tuple(parent_ids),
                          depth=lineage.depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
-                         unguided_axes=tuple(ax for ax in range(3)
-                                             if not any(a.axis == ax for a in anchors)),
-                         cost_adjust=_adjust_cost(prim.box, box, anchors),
+                         unguided_axes=tuple(ax for ax in range(3) if ax not in axes),
+                         cost_adjust=self.adjust_cost(part, box, anchors),
                          cost_difficulty=self.difficulty(anchors), primitive_type=prim.type,
                          axis=prim.axis)
         return cand, lineage.ancestry
@@ -1261,19 +1294,24 @@ class _Generator:
         The test ``test_candidates.test_build_cheapest_equals_building_all`` checks that the
         result keeps what building every combination keeps.
         """
-        own: dict[int, float] = {}  # id(option) -> its own E_e
+        # per option (by id: every option outlives this call), the ancestor parts it brings
+        reach: dict[int, frozenset[str]] = {}
+        extra: set[str] = set()
+        for pid in extra_parents:
+            extra.update(self.ctx.ancestry[pid])
 
         def group(combo: tuple[_AxisOption, ...]) -> frozenset[str]:
-            parts: set[str] = set()
+            parts = set(extra)
             for o in combo:
-                for a in o.anchors:
-                    parts.update(self.ctx.ancestry[a.parent])
-            for pid in extra_parents:
-                parts.update(self.ctx.ancestry[pid])
+                got = reach.get(id(o))
+                if got is None:
+                    got = reach[id(o)] = frozenset(
+                        p for a in o.anchors for p in self.ctx.ancestry[a.parent])
+                parts |= got
             parts.discard(part)
             return frozenset(parts)
 
-        ranked = sorted(((self.bound(part, c, own), i) for i, c in enumerate(combos)))
+        ranked = sorted(zip(self.bounds(part, combos), itertools.count()))
         left: dict[frozenset[str], int] = {}
         groups = [group(c) for c in combos] if diverse else []
         for g in groups:
@@ -1297,11 +1335,9 @@ class _Generator:
                 state.add(built[0].cost(self.w_a, self.w_d), groups[i] if diverse else _NO_GROUP)
         return made
 
-    def bound(self, part: str, combo: tuple[_AxisOption, ...],
-              own: dict[int, float] | None = None) -> float:
+    def bound(self, part: str, combo: tuple[_AxisOption, ...]) -> float:
         """A lower bound of the weighted cost of the candidate ``combo`` builds
-        (:meth:`build_cheapest`); ``own`` remembers the options' own E_e between calls."""
-        own = {} if own is None else own
+        (:meth:`build_cheapest`)."""
         prim = self.ctx.prims[part]
         costs = [o.cost_adjust for o in combo]
         if prim.type == "cylinder" and prim.axis is not None:  # rounding may move one cross axis
@@ -1310,11 +1346,32 @@ class _Generator:
             adjust = costs[0] + costs[1] + costs[2]
         diff = 0.0
         for o in combo:
-            d = own.get(id(o))
-            if d is None:
-                d = own[id(o)] = self.difficulty(o.anchors) if o.anchors else 0.0
-            diff = max(diff, d)
+            diff = max(diff, self.difficulty(o.anchors) if o.anchors else 0.0)
         return (self.w_a * adjust + self.w_d * diff) * (1 - 1e-9)
+
+    def bounds(self, part: str, combos: Sequence[tuple[_AxisOption, ...]]) -> list[float]:
+        """:meth:`bound` of every combination, each option's E_e found once (a part's
+        hundreds of combinations share a few options per axis): the same expressions, so
+        the same bounds (the test compares them)."""
+        prim = self.ctx.prims[part]
+        cyl = prim.axis if prim.type == "cylinder" and prim.axis is not None else None
+        u, v = (a for a in range(3) if a != cyl) if cyl is not None else (0, 0)
+        own: dict[int, float] = {}  # id(option) -> its own E_e (every option outlives this)
+        w_a, w_d, shrink = self.w_a, self.w_d, 1 - 1e-9
+        out = []
+        for combo in combos:
+            diff = 0.0
+            for o in combo:
+                d = own.get(id(o))
+                if d is None:
+                    d = own[id(o)] = self.difficulty(o.anchors) if o.anchors else 0.0
+                diff = max(diff, d)
+            if cyl is None:
+                adjust = combo[0].cost_adjust + combo[1].cost_adjust + combo[2].cost_adjust
+            else:  # rounding may move one cross axis
+                adjust = combo[cyl].cost_adjust + min(combo[u].cost_adjust, combo[v].cost_adjust)
+            out.append((w_a * adjust + w_d * diff) * shrink)
+        return out
 
     def recentred(self, part: str, axis: int, parent_pool: Mapping[str, Sequence[str]]
                   ) -> list[_AxisOption]:

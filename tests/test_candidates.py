@@ -548,6 +548,34 @@ def test_keeps_relations_is_holds_with_every_ancestor(model, monkeypatch):
     assert model == "camera" or False in answers  # the camera's candidates break none
 
 
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_build_costs_and_bounds_equal_the_definitions(model, monkeypatch):
+    """build's E_d from per-part terms is ``_adjust_cost``, and ``bounds`` (each option's
+    E_e found once) is ``bound`` combination by combination, to the last bit."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model(model)
+    adjust, bounds = C._Generator.adjust_cost, C._Generator.bounds
+    seen = {"adjust": 0, "bounds": 0}
+
+    def adjust_both(self, part, box, anchors):
+        got = adjust(self, part, box, anchors)
+        assert got == C._adjust_cost(self.ctx.prims[part].box, box, anchors), (part, box)
+        seen["adjust"] += 1
+        return got
+
+    def bounds_both(self, part, combos):
+        got = bounds(self, part, combos)
+        assert got == [self.bound(part, c) for c in combos], part
+        seen["bounds"] += len(got)
+        return got
+
+    monkeypatch.setattr(C._Generator, "adjust_cost", adjust_both)
+    monkeypatch.setattr(C._Generator, "bounds", bounds_both)
+    generate_candidates(prims, rels, SolverSettings())
+    assert seen["adjust"] > 10 and seen["bounds"] > 10
+
+
 def test_ranked_few_equals_the_arrays(monkeypatch):
     """The small pools' path builds the very options of the array path, costs and areas too,
     on every pool of a generated assembly (issue 13's speed-up of restoring)."""
