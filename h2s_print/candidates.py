@@ -473,6 +473,8 @@ class _Context:
     # (face key, its anchors' (ratio, across)) -> the face's term of E_e (a stored
     # candidate's face never changes; the anchor sets above share their faces)
     face_terms: dict[tuple, float] = field(default_factory=dict)
+    # (parent id, axis, shared plane, side) -> _Generator.parent_axis
+    parent_axes: dict[tuple, tuple] = field(default_factory=dict)
     # part -> per axis (L, input length, input midpoint): the terms of _axis_cost
     axis_terms: dict[str, tuple[tuple[float, float, float], ...]] = field(default_factory=dict)
 
@@ -873,59 +875,77 @@ class _Generator:
                 n += 1
         return out
 
-    def end_options(self, part: str, parent_pool: Mapping[str, Sequence[str]]
-                    ) -> list[dict[str, list[_End]]]:
-        """Per axis, per end: every anchored position within reach of the change limit."""
+    def end_options(self, part: str, parent_pool: Mapping[str, Sequence[str]],
+                    axes: Sequence[int] = (0, 1, 2)) -> list[dict[str, list[_End]]]:
+        """Per axis, per end: every anchored position within reach of the change limit
+        (only along ``axes``: the others' are left empty)."""
         orig = self.ctx.prims[part].box
         mc = self.ctx.settings.max_change
         # per axis: (end, parent id, ratio) -> (rank of its face, value, parent part, face
         # area, face normal, face side, guide lines); the anchors are made once, at the end
         found: list[dict[tuple, tuple]] = [{} for _ in range(3)]
-        # per axis: each interval point's input coordinate and how far an anchor may move it
-        targets = []
-        for axis in range(3):
+        # per axis: each interval point's input coordinate, how far an anchor may move it,
+        # and the window of values tested (a little wider than the reach: the catalogue's
+        # ratios ascend, so the values do; those in it are tested exactly, below)
+        targets: list[list[tuple[str, float, float, float, float]]] = [[], [], []]
+        for axis in axes:
             reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
             reach_mid = mc * _norm_length(orig, axis) * (1 + 1e-9)
-            targets.append([(end, _point(orig, axis, end), reach_mid if end == "mid" else reach)
-                            for end in POINTS])
+            for end in POINTS:
+                target, r = _point(orig, axis, end), reach_mid if end == "mid" else reach
+                slack = 1e-9 * (abs(target) + r)
+                targets[axis].append((end, target, r, target - r - slack, target + r + slack))
         for parent_part, rel in self.ctx.coplanar.get(part, ()):
+            if not parent_pool.get(parent_part):
+                continue
             side = (rel.detail.get("b_end" if rel.a == part else "a_end")
                     if rel.type == "coplanar" else None)
             plane = None if rel.type == "coaxial" else rel.axis
-            for pid in self.usable(part, parent_pool.get(parent_part, ())):
-                pbox = self.ctx.cands[pid].box
-                for axis in range(3):
-                    normal, fside, area = _face_for(pbox, axis, plane, side)
+            for pid in self.usable(part, parent_pool[parent_part]):
+                for axis in axes:
+                    normal, fside, area, entries, values = self.parent_axis(pid, axis, plane,
+                                                                            side)
                     better = (area, fside is not None)
-                    entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
-                    values = [_ratio_value(pbox, axis, entry.ratio) for entry in entries]
-                    for end, target, reach in targets[axis]:
-                        # the catalogue's ratios ascend, so the values do: only those in a
-                        # window a little wider than the reach are tested (exactly, below);
+                    at = found[axis]
+                    for end, target, reach, low, high in targets[axis]:
                         # each key is met once here, so the order they are met in is the same
-                        slack = 1e-9 * (abs(target) + reach)
-                        first = bisect.bisect_left(values, target - reach - slack)
-                        last = bisect.bisect_right(values, target + reach + slack)
-                        for k in range(first, last):
+                        for k in range(bisect.bisect_left(values, low),
+                                       bisect.bisect_right(values, high)):
                             value, entry = values[k], entries[k]
                             if abs(value - target) > reach:
                                 continue
                             key = (end, pid, entry.ratio)
-                            old = found[axis].get(key)
+                            old = at.get(key)
                             # prefer the larger face; on a tie, the shared plane itself
                             if old is None or better > old[0]:
-                                found[axis][key] = (better, value, parent_part, area, normal,
-                                                    fside, entry.guide_lines)
+                                at[key] = (better, value, parent_part, area, normal, fside,
+                                           entry.guide_lines)
         out: list[dict[str, list[_End]]] = []
         for axis in range(3):
             per_end: dict[str, list[_End]] = {"lo": [], "hi": [], "mid": []}
-            for key in sorted(found[axis], key=lambda k: (k[0], k[1], k[2])):
+            for key in sorted(found[axis]):  # (end, parent id, ratio)
                 end, pid, ratio = key
                 _, value, parent_part, area, normal, fside, lines = found[axis][key]
                 per_end[end].append(_End(value, Anchor(axis, end, pid, ratio, lines, normal,
                                                        fside), parent_part, area))
             out.append(per_end)
         return out
+
+    def parent_axis(self, pid: str, axis: int, plane: int | None, side: str | None
+                    ) -> tuple[int, str | None, float, Sequence[Any], list[float]]:
+        """What :meth:`end_options` reads off a parent candidate's axis: its construction face
+        (:func:`_face_for`: normal, side, area), the catalogue entries that apply and their
+        values.  Remembered: a stored candidate's box never changes, and it is offered as
+        a parent to many parts at every level."""
+        key = (pid, axis, plane, side)
+        found = self.ctx.parent_axes.get(key)
+        if found is None:
+            pbox = self.ctx.cands[pid].box
+            entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
+            found = self.ctx.parent_axes[key] = (
+                *_face_for(pbox, axis, plane, side), entries,
+                [_ratio_value(pbox, axis, entry.ratio) for entry in entries])
+        return found
 
     def ranked_axis_options(self, part: str, axis: int, ends: Mapping[str, list[_End]],
                             fresh: frozenset[str], per_group: int, total: int | None
@@ -1409,7 +1429,9 @@ class _Generator:
                      else relation_holds(rel, obox, cand.box))
             if holds:
                 continue
-            ends = self.end_options(other, {cand.part: [cand.id]})
+            # the relation's own axes are re-aligned (restore_axis), never anchored freely
+            ends = self.end_options(other, {cand.part: [cand.id]},
+                                    [ax for ax in range(3) if ax not in relation_axes(rel)])
             per_axis: list[list[_AxisOption]] = []
             for axis in range(3):
                 if axis in relation_axes(rel):
