@@ -648,11 +648,23 @@ class _Settling:
             self.total += 1
         if not diverse:
             return self.total >= k
-        others = [g for g, n in self.left.items() if n] + [g for g, n in self.waits.items() if n]
-        if not others:
+        # m: the least settled count over the sets that still have others (combinations
+        # not built, or built and waiting); a set of none settled makes it 0, the least
+        # there is, so the search stops there (most sets have none settled)
+        settled, m = self.settled, None
+        for counts in (self.left, self.waits):
+            for g, n in counts.items():
+                if n:
+                    got = settled.get(g, 0)
+                    m = got if m is None else min(m, got)
+                    if m == 0:
+                        break
+            if m == 0:
+                break
+        if m is None:
             return True
-        m = min(self.settled.get(g, 0) for g in others)
-        return sum(min(n, m + 1) for n in self.settled.values()) >= k
+        # the sum never exceeds the settled ones in all (self.total)
+        return self.total >= k and sum(min(n, m + 1) for n in settled.values()) >= k
 
 
 class _TooMany(SelectionError):
