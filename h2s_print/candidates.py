@@ -801,28 +801,39 @@ class _Generator:
         return total
 
     def build(self, part: str, box: Box, anchors: Sequence[Anchor],
-              extra_parents: Sequence[str] = ()) -> tuple[Candidate, dict] | None:
+              extra_parents: Sequence[str] = (),
+              axis_costs: tuple[float, float, float] | None = None
+              ) -> tuple[Candidate, dict] | None:
         """A new (unnamed) candidate, or None when it can never be selected.
 
         A cylinder's cross-section is made round first (:func:`_round_cross`).  ``E_d`` and the
         unguided axes follow from the box and the anchors (module docstring, *Costs*).
+        ``axis_costs``: the axes' costs when ``box`` is made of axis options (their
+        ``cost_adjust``: :func:`_axis_cost` of the interval with as many free ends as the
+        option's anchors leave), so E_d is their sum in axis order, as
+        :meth:`adjust_cost` sums it, unless rounding moved an axis.
         """
         prim = self.ctx.prims[part]
         parent_ids = sorted({a.parent for a in anchors} | set(extra_parents))
         lineage = self.lineage(part, parent_ids)  # remembered: the cheapest test
         if lineage is None:
             return None
+        given = box
         if prim.type == "cylinder" and prim.axis is not None:
             box = _round_cross(prim, box, anchors, self.ctx.settings.max_change)
             if box is None:
                 return None
         if not self.keeps_relations(box, lineage):
             return None
+        if axis_costs is not None and box is given:  # not rounded (_round_cross returns it)
+            cost_adjust = 0.0 + axis_costs[0] + axis_costs[1] + axis_costs[2]
+        else:
+            cost_adjust = self.adjust_cost(part, box, anchors)
         axes = {a.axis for a in anchors}
         cand = Candidate(id="", part=part, box=box, original=False, parents=tuple(parent_ids),
                          depth=lineage.depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
                          unguided_axes=tuple(ax for ax in range(3) if ax not in axes),
-                         cost_adjust=self.adjust_cost(part, box, anchors),
+                         cost_adjust=cost_adjust,
                          cost_difficulty=self.difficulty(anchors), primitive_type=prim.type,
                          axis=prim.axis)
         return cand, lineage.ancestry
@@ -1359,7 +1370,8 @@ class _Generator:
             o = combos[i]
             box = ((o[0].lo, o[1].lo, o[2].lo), (o[0].hi, o[1].hi, o[2].hi))
             built = self.build(part, box, [*o[0].anchors, *o[1].anchors, *o[2].anchors],
-                               extra_parents)
+                               extra_parents,
+                               (o[0].cost_adjust, o[1].cost_adjust, o[2].cost_adjust))
             if diverse:
                 left[groups[i]] -= 1
             if built is not None:

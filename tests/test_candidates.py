@@ -550,18 +550,22 @@ def test_keeps_relations_is_holds_with_every_ancestor(model, monkeypatch):
 
 @pytest.mark.parametrize("model", ["camera", "shared-faces"])
 def test_build_costs_and_bounds_equal_the_definitions(model, monkeypatch):
-    """build's E_d from per-part terms is ``_adjust_cost``, and ``bounds`` (each option's
-    E_e found once) is ``bound`` combination by combination, to the last bit."""
+    """build's E_d (the options' axis costs summed, or from per-part terms when a cylinder
+    was rounded) is ``_adjust_cost`` of every candidate built, and ``bounds`` (each
+    option's E_e found once) is ``bound`` combination by combination, to the last bit."""
     from h2s_print import candidates as C
 
     prims, rels = _generator_model(model)
-    adjust, bounds = C._Generator.adjust_cost, C._Generator.bounds
+    build, bounds = C._Generator.build, C._Generator.bounds
     seen = {"adjust": 0, "bounds": 0}
 
-    def adjust_both(self, part, box, anchors):
-        got = adjust(self, part, box, anchors)
-        assert got == C._adjust_cost(self.ctx.prims[part].box, box, anchors), (part, box)
-        seen["adjust"] += 1
+    def build_checked(self, part, box, anchors, extra_parents=(), axis_costs=None):
+        got = build(self, part, box, anchors, extra_parents, axis_costs)
+        if got is not None:
+            cand = got[0]
+            want = C._adjust_cost(self.ctx.prims[part].box, cand.box, anchors)
+            assert cand.cost_adjust == want, (part, cand.box)
+            seen["adjust"] += 1
         return got
 
     def bounds_both(self, part, combos):
@@ -570,7 +574,7 @@ def test_build_costs_and_bounds_equal_the_definitions(model, monkeypatch):
         seen["bounds"] += len(got)
         return got
 
-    monkeypatch.setattr(C._Generator, "adjust_cost", adjust_both)
+    monkeypatch.setattr(C._Generator, "build", build_checked)
     monkeypatch.setattr(C._Generator, "bounds", bounds_both)
     generate_candidates(prims, rels, SolverSettings())
     assert seen["adjust"] > 10 and seen["bounds"] > 10
