@@ -178,6 +178,9 @@ RESTORED_PER_RELATION = 4
 #: Symmetric ratio pairs used to restore bisector and coaxial relations.
 SYMMETRIC = ((-1.0, 2.0), (-0.5, 1.5), (0.0, 1.0), (0.25, 0.75), (1 / 3, 2 / 3))
 _EPS = 1e-9
+#: Pools of at most this many ends are ranked one row at a time (``_Generator.ranked_few``):
+#: the array path's fixed cost (~0.2 ms) is most of a small pool's time.
+SMALL_POOL = 24
 
 
 # --------------------------------------------------------------------------- values
@@ -425,6 +428,25 @@ class _AxisOption:
         return not self.anchors
 
 
+@dataclass(frozen=True, slots=True)
+class _Lineage:
+    """What a new candidate of a part learns from its parents alone (``_Generator.lineage``).
+
+    Attributes:
+        ancestry: part -> candidate id over all ancestors (shared: never to be changed).
+        checks: the preserved relations with those ancestors, in ``_Context.preserved``
+            order, each ``(relation, ancestor box, part is the relation's a, axis, point,
+            ancestor's coordinate)``; ``point`` 0/1/2 reads the candidate's lo/hi/mid along
+            ``axis`` (the one-axis relations, :func:`_holds`), -1 a coaxial one
+            (:func:`relation_holds` on both boxes).
+        depth: the candidate's depth, 1 + the parents' largest.
+    """
+
+    ancestry: dict[str, str]
+    checks: tuple[tuple[Relation, Box, bool, int, int, float], ...]
+    depth: int
+
+
 @dataclass
 class _Context:
     """Mutable bookkeeping while generating (never escapes this module)."""
@@ -441,14 +463,20 @@ class _Context:
     ancestry: dict[str, dict[str, str]] = field(default_factory=dict)
     counters: dict[str, int] = field(default_factory=dict)
     seen: dict[tuple, str] = field(default_factory=dict)  # (part, box, parents) -> id
-    # (part, parent ids) -> merged ancestry or None (_Generator.merged_ancestry): a stored
+    # (part, parent ids) -> their lineage or None (_Generator.lineage): a stored
     # candidate's ancestry never changes, and a part's combinations share few parent sets
     # (a generated 40-part model: 122 268 asks, 19 147 distinct)
-    merged: dict[tuple[str, tuple[str, ...]], dict[str, str] | None] = field(
-        default_factory=dict)
+    merged: dict[tuple[str, tuple[str, ...]], _Lineage | None] = field(default_factory=dict)
     # anchors -> their E_e (_Generator.difficulty): combinations of one part's per-axis
     # options repeat anchor sets (a generated 40-part model: 69 119 asks, 45 037 distinct)
     difficulty: dict[tuple[Anchor, ...], float] = field(default_factory=dict)
+    # (face key, its anchors' (ratio, across)) -> the face's term of E_e (a stored
+    # candidate's face never changes; the anchor sets above share their faces)
+    face_terms: dict[tuple, float] = field(default_factory=dict)
+    # (parent id, axis, shared plane, side) -> _Generator.parent_axis
+    parent_axes: dict[tuple, tuple] = field(default_factory=dict)
+    # part -> per axis (L, input length, input midpoint): the terms of _axis_cost
+    axis_terms: dict[str, tuple[tuple[float, float, float], ...]] = field(default_factory=dict)
 
 
 def _extent(box: Box, axis: int) -> float:
@@ -620,11 +648,23 @@ class _Settling:
             self.total += 1
         if not diverse:
             return self.total >= k
-        others = [g for g, n in self.left.items() if n] + [g for g, n in self.waits.items() if n]
-        if not others:
+        # m: the least settled count over the sets that still have others (combinations
+        # not built, or built and waiting); a set of none settled makes it 0, the least
+        # there is, so the search stops there (most sets have none settled)
+        settled, m = self.settled, None
+        for counts in (self.left, self.waits):
+            for g, n in counts.items():
+                if n:
+                    got = settled.get(g, 0)
+                    m = got if m is None else min(m, got)
+                    if m == 0:
+                        break
+            if m == 0:
+                break
+        if m is None:
             return True
-        m = min(self.settled.get(g, 0) for g in others)
-        return sum(min(n, m + 1) for n in self.settled.values()) >= k
+        # the sum never exceeds the settled ones in all (self.total)
+        return self.total >= k and sum(min(n, m + 1) for n in settled.values()) >= k
 
 
 class _TooMany(SelectionError):
@@ -639,9 +679,10 @@ class _Generator:
         self.w_a, self.w_d = s.weight_adjust, s.weight_difficulty
 
     # ------------------------------------------------------------------ bookkeeping
-    def merged_ancestry(self, part: str, parent_ids: Sequence[str]) -> dict[str, str] | None:
-        """part -> candidate id over all ancestors, or None when inconsistent (remembered:
-        the dict returned is shared, never to be changed)."""
+    def lineage(self, part: str, parent_ids: Sequence[str]) -> _Lineage | None:
+        """The merged ancestry of ``part``'s candidate off ``parent_ids`` with what follows
+        from it, or None when inconsistent (two candidates of one part, or one of ``part``
+        itself); remembered per (part, parent ids)."""
         key = (part, tuple(parent_ids))
         if key in self.ctx.merged:
             return self.ctx.merged[key]
@@ -653,16 +694,45 @@ class _Generator:
                     break
             if merged is None:
                 break
-        self.ctx.merged[key] = merged
-        return merged
+        found = None
+        if merged is not None:
+            checks = []
+            for other, rel in self.ctx.preserved.get(part, ()):
+                cid = merged.get(other)
+                if cid is None:
+                    continue
+                obox, here_is_a = self.ctx.cands[cid].box, rel.a == part
+                if rel.type == "coaxial":
+                    checks.append((rel, obox, here_is_a, 0, -1, 0.0))
+                    continue
+                if rel.type == "coplanar":
+                    mine = rel.detail.get("a_end" if here_is_a else "b_end", "lo")
+                    theirs = rel.detail.get("b_end" if here_is_a else "a_end", "lo")
+                    point = 0 if mine == "lo" else 1
+                    value = obox[0 if theirs == "lo" else 1][rel.axis]
+                else:
+                    point, value = 2, 0.5 * (obox[0][rel.axis] + obox[1][rel.axis])
+                checks.append((rel, obox, here_is_a, rel.axis, point, value))
+            found = _Lineage(merged, tuple(checks),
+                             1 + max(self.ctx.cands[p].depth for p in parent_ids))
+        self.ctx.merged[key] = found
+        return found
 
-    def keeps_relations(self, part: str, box: Box, ancestry: Mapping[str, str]) -> bool:
-        for other, rel in self.ctx.preserved.get(part, ()):
-            cid = ancestry.get(other)
-            if cid is None:
+    @staticmethod
+    def keeps_relations(box: Box, lineage: _Lineage) -> bool:
+        """Does ``box`` keep every preserved relation with the ancestors of ``lineage``?
+
+        :func:`_holds` with the ancestor's side read once per lineage: the same arithmetic
+        (``|x - y|`` is ``|y - x|`` and ``max`` does not depend on its arguments' order),
+        so the same answers."""
+        for rel, obox, here_is_a, axis, point, theirs in lineage.checks:
+            if point < 0:
+                if not (relation_holds(rel, box, obox) if here_is_a
+                        else relation_holds(rel, obox, box)):
+                    return False
                 continue
-            obox = self.ctx.cands[cid].box
-            if not (_holds(rel, box, obox) if rel.a == part else _holds(rel, obox, box)):
+            mine = box[point][axis] if point < 2 else 0.5 * (box[0][axis] + box[1][axis])
+            if not abs(mine - theirs) <= rel.tolerance + _EPS * max(1.0, abs(mine), abs(theirs)):
                 return False
         return True
 
@@ -694,41 +764,79 @@ class _Generator:
                                a.axis != (1 if a.face_normal == 0 else 0))
             groups.setdefault(key, []).append((a.ratio, across))
         total = 0.0
+        terms = self.ctx.face_terms
         for key in sorted(groups):
-            pid, normal, _, axis = key
-            area = _face_area_of(self.ctx.cands[pid].box, axis, normal)
-            total += (_face_lines_of(tuple(groups[key])) * self.ctx.a_ref
-                      / max(area, 1e-6 * self.ctx.a_ref))
+            face = (key, tuple(groups[key]))
+            term = terms.get(face)
+            if term is None:
+                pid, normal, _, axis = key
+                area = _face_area_of(self.ctx.cands[pid].box, axis, normal)
+                term = terms[face] = (_face_lines_of(face[1]) * self.ctx.a_ref
+                                      / max(area, 1e-6 * self.ctx.a_ref))
+            total += term
         cost = self.ctx.difficulty[memo] = self.ctx.settings.guide_cost * total
         return cost
 
+    def adjust_cost(self, part: str, box: Box, anchors: Sequence[Anchor]) -> float:
+        """:func:`_adjust_cost` of a box of ``part``, its input box's terms found once per
+        part: the same expressions in the same order, so the same E_d."""
+        terms = self.ctx.axis_terms.get(part)
+        if terms is None:
+            orig = self.ctx.prims[part].box
+            terms = self.ctx.axis_terms[part] = tuple(
+                (_norm_length(orig, ax), _extent(orig, ax), _mid(orig, ax)) for ax in range(3))
+        ends: tuple[set[str], set[str], set[str]] = (set(), set(), set())
+        for a in anchors:
+            ends[a.axis].add(a.end)
+        total = 0.0
+        for axis in range(3):
+            n_free = 2 - len(ends[axis])
+            if n_free >= 2:
+                total += 2.0
+                continue
+            length, extent, mid = terms[axis]
+            lo, hi = box[0][axis], box[1][axis]
+            total += (abs((hi - lo) - extent) / length + abs(0.5 * (lo + hi) - mid) / length
+                      + float(n_free))
+        return total
+
     def build(self, part: str, box: Box, anchors: Sequence[Anchor],
-              extra_parents: Sequence[str] = ()) -> tuple[Candidate, dict] | None:
+              extra_parents: Sequence[str] = (),
+              axis_costs: tuple[float, float, float] | None = None
+              ) -> tuple[Candidate, dict] | None:
         """A new (unnamed) candidate, or None when it can never be selected.
 
         A cylinder's cross-section is made round first (:func:`_round_cross`).  ``E_d`` and the
         unguided axes follow from the box and the anchors (module docstring, *Costs*).
+        ``axis_costs``: the axes' costs when ``box`` is made of axis options (their
+        ``cost_adjust``: :func:`_axis_cost` of the interval with as many free ends as the
+        option's anchors leave), so E_d is their sum in axis order, as
+        :meth:`adjust_cost` sums it, unless rounding moved an axis.
         """
         prim = self.ctx.prims[part]
         parent_ids = sorted({a.parent for a in anchors} | set(extra_parents))
-        ancestry = self.merged_ancestry(part, parent_ids)  # remembered: the cheapest test
-        if ancestry is None:
+        lineage = self.lineage(part, parent_ids)  # remembered: the cheapest test
+        if lineage is None:
             return None
+        given = box
         if prim.type == "cylinder" and prim.axis is not None:
             box = _round_cross(prim, box, anchors, self.ctx.settings.max_change)
             if box is None:
                 return None
-        if not self.keeps_relations(part, box, ancestry):
+        if not self.keeps_relations(box, lineage):
             return None
-        depth = 1 + max(self.ctx.cands[p].depth for p in parent_ids)
+        if axis_costs is not None and box is given:  # not rounded (_round_cross returns it)
+            cost_adjust = 0.0 + axis_costs[0] + axis_costs[1] + axis_costs[2]
+        else:
+            cost_adjust = self.adjust_cost(part, box, anchors)
+        axes = {a.axis for a in anchors}
         cand = Candidate(id="", part=part, box=box, original=False, parents=tuple(parent_ids),
-                         depth=depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
-                         unguided_axes=tuple(ax for ax in range(3)
-                                             if not any(a.axis == ax for a in anchors)),
-                         cost_adjust=_adjust_cost(prim.box, box, anchors),
+                         depth=lineage.depth, anchors=tuple(sorted(anchors, key=_anchor_key)),
+                         unguided_axes=tuple(ax for ax in range(3) if ax not in axes),
+                         cost_adjust=cost_adjust,
                          cost_difficulty=self.difficulty(anchors), primitive_type=prim.type,
                          axis=prim.axis)
-        return cand, ancestry
+        return cand, lineage.ancestry
 
     def commit(self, batch: list[tuple[Candidate, dict]], again: bool = False
                ) -> list[Candidate]:
@@ -790,59 +898,77 @@ class _Generator:
                 n += 1
         return out
 
-    def end_options(self, part: str, parent_pool: Mapping[str, Sequence[str]]
-                    ) -> list[dict[str, list[_End]]]:
-        """Per axis, per end: every anchored position within reach of the change limit."""
+    def end_options(self, part: str, parent_pool: Mapping[str, Sequence[str]],
+                    axes: Sequence[int] = (0, 1, 2)) -> list[dict[str, list[_End]]]:
+        """Per axis, per end: every anchored position within reach of the change limit
+        (only along ``axes``: the others' are left empty)."""
         orig = self.ctx.prims[part].box
         mc = self.ctx.settings.max_change
         # per axis: (end, parent id, ratio) -> (rank of its face, value, parent part, face
         # area, face normal, face side, guide lines); the anchors are made once, at the end
         found: list[dict[tuple, tuple]] = [{} for _ in range(3)]
-        # per axis: each interval point's input coordinate and how far an anchor may move it
-        targets = []
-        for axis in range(3):
+        # per axis: each interval point's input coordinate, how far an anchor may move it,
+        # and the window of values tested (a little wider than the reach: the catalogue's
+        # ratios ascend, so the values do; those in it are tested exactly, below)
+        targets: list[list[tuple[str, float, float, float, float]]] = [[], [], []]
+        for axis in axes:
             reach = 1.5 * mc * _norm_length(orig, axis) * (1 + 1e-9)
             reach_mid = mc * _norm_length(orig, axis) * (1 + 1e-9)
-            targets.append([(end, _point(orig, axis, end), reach_mid if end == "mid" else reach)
-                            for end in POINTS])
+            for end in POINTS:
+                target, r = _point(orig, axis, end), reach_mid if end == "mid" else reach
+                slack = 1e-9 * (abs(target) + r)
+                targets[axis].append((end, target, r, target - r - slack, target + r + slack))
         for parent_part, rel in self.ctx.coplanar.get(part, ()):
+            if not parent_pool.get(parent_part):
+                continue
             side = (rel.detail.get("b_end" if rel.a == part else "a_end")
                     if rel.type == "coplanar" else None)
             plane = None if rel.type == "coaxial" else rel.axis
-            for pid in self.usable(part, parent_pool.get(parent_part, ())):
-                pbox = self.ctx.cands[pid].box
-                for axis in range(3):
-                    normal, fside, area = _face_for(pbox, axis, plane, side)
+            for pid in self.usable(part, parent_pool[parent_part]):
+                for axis in axes:
+                    normal, fside, area, entries, values = self.parent_axis(pid, axis, plane,
+                                                                            side)
                     better = (area, fside is not None)
-                    entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
-                    values = [_ratio_value(pbox, axis, entry.ratio) for entry in entries]
-                    for end, target, reach in targets[axis]:
-                        # the catalogue's ratios ascend, so the values do: only those in a
-                        # window a little wider than the reach are tested (exactly, below);
+                    at = found[axis]
+                    for end, target, reach, low, high in targets[axis]:
                         # each key is met once here, so the order they are met in is the same
-                        slack = 1e-9 * (abs(target) + reach)
-                        first = bisect.bisect_left(values, target - reach - slack)
-                        last = bisect.bisect_right(values, target + reach + slack)
-                        for k in range(first, last):
+                        for k in range(bisect.bisect_left(values, low),
+                                       bisect.bisect_right(values, high)):
                             value, entry = values[k], entries[k]
                             if abs(value - target) > reach:
                                 continue
                             key = (end, pid, entry.ratio)
-                            old = found[axis].get(key)
+                            old = at.get(key)
                             # prefer the larger face; on a tie, the shared plane itself
                             if old is None or better > old[0]:
-                                found[axis][key] = (better, value, parent_part, area, normal,
-                                                    fside, entry.guide_lines)
+                                at[key] = (better, value, parent_part, area, normal, fside,
+                                           entry.guide_lines)
         out: list[dict[str, list[_End]]] = []
         for axis in range(3):
             per_end: dict[str, list[_End]] = {"lo": [], "hi": [], "mid": []}
-            for key in sorted(found[axis], key=lambda k: (k[0], k[1], k[2])):
+            for key in sorted(found[axis]):  # (end, parent id, ratio)
                 end, pid, ratio = key
                 _, value, parent_part, area, normal, fside, lines = found[axis][key]
                 per_end[end].append(_End(value, Anchor(axis, end, pid, ratio, lines, normal,
                                                        fside), parent_part, area))
             out.append(per_end)
         return out
+
+    def parent_axis(self, pid: str, axis: int, plane: int | None, side: str | None
+                    ) -> tuple[int, str | None, float, Sequence[Any], list[float]]:
+        """What :meth:`end_options` reads off a parent candidate's axis: its construction face
+        (:func:`_face_for`: normal, side, area), the catalogue entries that apply and their
+        values.  Remembered: a stored candidate's box never changes, and it is offered as
+        a parent to many parts at every level."""
+        key = (pid, axis, plane, side)
+        found = self.ctx.parent_axes.get(key)
+        if found is None:
+            pbox = self.ctx.cands[pid].box
+            entries = ALIGN_ONLY if _is_flat(pbox, axis) else CATALOGUE
+            found = self.ctx.parent_axes[key] = (
+                *_face_for(pbox, axis, plane, side), entries,
+                [_ratio_value(pbox, axis, entry.ratio) for entry in entries])
+        return found
 
     def ranked_axis_options(self, part: str, axis: int, ends: Mapping[str, list[_End]],
                             fresh: frozenset[str], per_group: int, total: int | None
@@ -877,6 +1003,8 @@ class _Generator:
         if not pool:
             return []
         n_lo, n_hi = len(ends["lo"]), len(ends["hi"])
+        if len(pool) <= SMALL_POOL:
+            return self.ranked_few(part, axis, pool, n_lo, n_hi, fresh, per_group, total)
         value = np.array([e.value for e in pool])
         pp = self._codes([e.parent_part for e in pool])  # parent part, by code
         parent = self._codes([e.anchor.parent for e in pool])  # parent candidate, by code
@@ -1019,6 +1147,99 @@ class _Generator:
         return [self._option(pool, int(first[x]), int(second[x]), float(los[x]),
                              float(his[x]), int(free[x]), axis, orig) for x in rows]
 
+    def ranked_few(self, part: str, axis: int, pool: Sequence[_End], n_lo: int, n_hi: int,
+                   fresh: frozenset[str], per_group: int, total: int | None
+                   ) -> list[_AxisOption]:
+        """:meth:`ranked_axis_options` of a small ``pool`` (its ``lo``, ``hi`` then ``mid``
+        ends), one row at a time: the same rows in the same order, the same float
+        expressions (numpy's elementwise ``+ - * /``, ``abs`` and ``maximum`` round as
+        Python's do) and the same total order of ranks, so the same options.  Restoring asks
+        thousands of times with a handful of ends, where the arrays' fixed cost is most of
+        the time (the test compares this path with the definition too)."""
+        orig = self.ctx.prims[part].box
+        terms = _change_terms(orig, axis, self.ctx.settings.max_change)
+        length = orig[1][axis] - orig[0][axis]
+        rows: list[tuple[int, int, float, float, float]] = []  # (first, second, lo, hi, free)
+        if _is_flat(orig, axis):  # an end paired with its own twin
+            rows = [(i, i, pool[i].value, pool[i].value, 0.0) for i in range(n_lo)]
+        else:
+            degenerate = DEGENERATE * max(length, 1e-300)
+            for i in range(n_lo):
+                e = pool[i]
+                for j in range(n_lo, n_lo + n_hi):
+                    f = pool[j]
+                    if (_within(terms, e.value, f.value)
+                            and not (e.parent_part == f.parent_part
+                                     and e.anchor.parent != f.anchor.parent)
+                            and not f.value - e.value <= degenerate):
+                        rows.append((i, j, e.value, f.value, 0.0))
+            for i, e in enumerate(pool):
+                v = e.value
+                if i < n_lo:
+                    rows.append((i, -1, v, v + length, 1.0))
+                elif i < n_lo + n_hi:
+                    rows.append((i, -1, v - length, v, 1.0))
+                else:
+                    rows.append((i, -1, v - 0.5 * length, v + 0.5 * length, 1.0))
+        pairs = self.preserved_pairs()
+        checks: dict[str, tuple[list[Relation], float, float]] = {}  # parent id -> relations
+        for e in pool:
+            pid = e.anchor.parent
+            if pid not in checks:
+                pbox = self.ctx.cands[pid].box
+                checks[pid] = ([rel for rel in pairs.get((part, e.parent_part), ())
+                                if _relation_decides(rel, axis)], pbox[0][axis], pbox[1][axis])
+
+        def keeps(pid: str, lo: float, hi: float) -> bool:
+            rels, p_lo, p_hi = checks[pid]
+            return all(_relation_axis_holds(rel, axis, lo, hi, p_lo, p_hi) if rel.a == part
+                       else _relation_axis_holds(rel, axis, p_lo, p_hi, lo, hi) for rel in rels)
+
+        keys = [_anchor_key(e.anchor) for e in pool]
+        key_rank = [0] * len(pool)
+        for r, i in enumerate(sorted(range(len(pool)), key=keys.__getitem__)):
+            key_rank[i] = r
+        a_ref, floor = self.ctx.a_ref, 1e-6 * self.ctx.a_ref
+        norm, ext, mid = _norm_length(orig, axis), _extent(orig, axis), _mid(orig, axis)
+        ranked = []  # (rank, row)
+        for row in rows:
+            i, j, lo, hi, free = row
+            if not _within(terms, lo, hi):
+                continue
+            a = pool[i].anchor
+            b = pool[j].anchor if j >= 0 else a
+            if not keeps(a.parent, lo, hi) or (b.parent != a.parent and not keeps(b.parent, lo, hi)):
+                continue
+            cost = abs((hi - lo) - ext) / norm + abs(0.5 * (lo + hi) - mid) / norm + free
+            area_i = max(pool[i].face_area, floor)
+            if j < 0:
+                diff = _lines_of((a.ratio, a.ratio)) * a_ref / area_i + 0.0
+            elif (a.parent, a.face_normal, a.face_side) == (b.parent, b.face_normal, b.face_side):
+                diff = _lines_of((a.ratio, b.ratio)) * a_ref / max(pool[j].face_area, floor)
+            else:
+                diff = (_lines_of((a.ratio, a.ratio)) * a_ref / area_i
+                        + _lines_of((b.ratio, b.ratio)) * a_ref / max(pool[j].face_area, floor))
+            diff = diff * self.ctx.settings.guide_cost
+            score = self.w_a * cost + self.w_d * diff
+            r_second = key_rank[j] if j >= 0 and j != i else -1
+            ranked.append(((score, lo, hi, key_rank[i], r_second), row))
+        ranked.sort(key=lambda x: x[0])
+        # each option's place in its group of parent parts (and freshness), as the arrays do
+        places: dict[tuple, int] = {}
+        kept: list[tuple[int, int]] = []  # (place, position in rank order)
+        for at, (_, (i, j, _, _, _)) in enumerate(ranked):
+            group: tuple = ()
+            if total is not None:
+                used = (pool[i],) if j < 0 else (pool[i], pool[j])
+                group = (frozenset(u.parent_part for u in used),
+                         any(bool(fresh) and u.anchor.parent in fresh for u in used))
+            place = places[group] = places.get(group, -1) + 1
+            if place < per_group:
+                kept.append((place, at))
+        chosen = sorted(at for _, at in (sorted(kept)[:total] if total is not None else kept))
+        return [self._option(pool, i, j, lo, hi, int(free), axis, orig)
+                for i, j, lo, hi, free in (ranked[at][1] for at in chosen)]
+
     def _option(self, pool: Sequence[_End], i: int, j: int, lo: float, hi: float, free: int,
                 axis: int, orig: Box) -> _AxisOption:
         """The :class:`_AxisOption` of ends ``i`` (and ``j``, or -1) of ``pool``."""
@@ -1116,19 +1337,24 @@ class _Generator:
         The test ``test_candidates.test_build_cheapest_equals_building_all`` checks that the
         result keeps what building every combination keeps.
         """
-        own: dict[int, float] = {}  # id(option) -> its own E_e
+        # per option (by id: every option outlives this call), the ancestor parts it brings
+        reach: dict[int, frozenset[str]] = {}
+        extra: set[str] = set()
+        for pid in extra_parents:
+            extra.update(self.ctx.ancestry[pid])
 
         def group(combo: tuple[_AxisOption, ...]) -> frozenset[str]:
-            parts: set[str] = set()
+            parts = set(extra)
             for o in combo:
-                for a in o.anchors:
-                    parts.update(self.ctx.ancestry[a.parent])
-            for pid in extra_parents:
-                parts.update(self.ctx.ancestry[pid])
+                got = reach.get(id(o))
+                if got is None:
+                    got = reach[id(o)] = frozenset(
+                        p for a in o.anchors for p in self.ctx.ancestry[a.parent])
+                parts |= got
             parts.discard(part)
             return frozenset(parts)
 
-        ranked = sorted(((self.bound(part, c, own), i) for i, c in enumerate(combos)))
+        ranked = sorted(zip(self.bounds(part, combos), itertools.count()))
         left: dict[frozenset[str], int] = {}
         groups = [group(c) for c in combos] if diverse else []
         for g in groups:
@@ -1144,7 +1370,8 @@ class _Generator:
             o = combos[i]
             box = ((o[0].lo, o[1].lo, o[2].lo), (o[0].hi, o[1].hi, o[2].hi))
             built = self.build(part, box, [*o[0].anchors, *o[1].anchors, *o[2].anchors],
-                               extra_parents)
+                               extra_parents,
+                               (o[0].cost_adjust, o[1].cost_adjust, o[2].cost_adjust))
             if diverse:
                 left[groups[i]] -= 1
             if built is not None:
@@ -1152,11 +1379,9 @@ class _Generator:
                 state.add(built[0].cost(self.w_a, self.w_d), groups[i] if diverse else _NO_GROUP)
         return made
 
-    def bound(self, part: str, combo: tuple[_AxisOption, ...],
-              own: dict[int, float] | None = None) -> float:
+    def bound(self, part: str, combo: tuple[_AxisOption, ...]) -> float:
         """A lower bound of the weighted cost of the candidate ``combo`` builds
-        (:meth:`build_cheapest`); ``own`` remembers the options' own E_e between calls."""
-        own = {} if own is None else own
+        (:meth:`build_cheapest`)."""
         prim = self.ctx.prims[part]
         costs = [o.cost_adjust for o in combo]
         if prim.type == "cylinder" and prim.axis is not None:  # rounding may move one cross axis
@@ -1165,11 +1390,32 @@ class _Generator:
             adjust = costs[0] + costs[1] + costs[2]
         diff = 0.0
         for o in combo:
-            d = own.get(id(o))
-            if d is None:
-                d = own[id(o)] = self.difficulty(o.anchors) if o.anchors else 0.0
-            diff = max(diff, d)
+            diff = max(diff, self.difficulty(o.anchors) if o.anchors else 0.0)
         return (self.w_a * adjust + self.w_d * diff) * (1 - 1e-9)
+
+    def bounds(self, part: str, combos: Sequence[tuple[_AxisOption, ...]]) -> list[float]:
+        """:meth:`bound` of every combination, each option's E_e found once (a part's
+        hundreds of combinations share a few options per axis): the same expressions, so
+        the same bounds (the test compares them)."""
+        prim = self.ctx.prims[part]
+        cyl = prim.axis if prim.type == "cylinder" and prim.axis is not None else None
+        u, v = (a for a in range(3) if a != cyl) if cyl is not None else (0, 0)
+        own: dict[int, float] = {}  # id(option) -> its own E_e (every option outlives this)
+        w_a, w_d, shrink = self.w_a, self.w_d, 1 - 1e-9
+        out = []
+        for combo in combos:
+            diff = 0.0
+            for o in combo:
+                d = own.get(id(o))
+                if d is None:
+                    d = own[id(o)] = self.difficulty(o.anchors) if o.anchors else 0.0
+                diff = max(diff, d)
+            if cyl is None:
+                adjust = combo[0].cost_adjust + combo[1].cost_adjust + combo[2].cost_adjust
+            else:  # rounding may move one cross axis
+                adjust = combo[cyl].cost_adjust + min(combo[u].cost_adjust, combo[v].cost_adjust)
+            out.append((w_a * adjust + w_d * diff) * shrink)
+        return out
 
     def recentred(self, part: str, axis: int, parent_pool: Mapping[str, Sequence[str]]
                   ) -> list[_AxisOption]:
@@ -1207,7 +1453,9 @@ class _Generator:
                      else relation_holds(rel, obox, cand.box))
             if holds:
                 continue
-            ends = self.end_options(other, {cand.part: [cand.id]})
+            # the relation's own axes are re-aligned (restore_axis), never anchored freely
+            ends = self.end_options(other, {cand.part: [cand.id]},
+                                    [ax for ax in range(3) if ax not in relation_axes(rel)])
             per_axis: list[list[_AxisOption]] = []
             for axis in range(3):
                 if axis in relation_axes(rel):

@@ -181,11 +181,14 @@ class SelectionModel:
     subs: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
 
 
-def _conflicts(rel: Relation, cands_a: Sequence[Candidate],
-               cands_b: Sequence[Candidate]) -> dict[str, tuple[str, ...]]:
-    """For each candidate of ``rel.a``, the candidates of ``rel.b`` it breaks ``rel`` with."""
+def _conflicts(rel: Relation, cands_a: Sequence[Candidate], cands_b: Sequence[Candidate],
+               boxes_a: Any = None, boxes_b: Any = None) -> dict[str, tuple[str, ...]]:
+    """For each candidate of ``rel.a``, the candidates of ``rel.b`` it breaks ``rel`` with
+    (``boxes_a``, ``boxes_b``: their boxes as arrays, when the caller has them)."""
     out: dict[str, tuple[str, ...]] = {}
-    holds = relation_holds_table(rel, [c.box for c in cands_a], [c.box for c in cands_b])
+    holds = relation_holds_table(
+        rel, [c.box for c in cands_a] if boxes_a is None else boxes_a,
+        [c.box for c in cands_b] if boxes_b is None else boxes_b)
     ids_b = [c.id for c in cands_b]
     for ca, breaks in zip(cands_a, (~holds).tolist()):
         bad = tuple(itertools.compress(ids_b, breaks))
@@ -276,8 +279,13 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
             else:
                 scip.addCons(pick[c.id] <= quicksum(pick[q] for q in subs[c.id, p]), name=name)
             n += 1
-    # (3) preserved relations kept
+    # (3) preserved relations kept; each part's boxes made an array once (a part has
+    # several preserved relations: gen40, 40 parts and 234 relations)
+    boxes: dict[str, np.ndarray] = {}
     for rel in preserved_relations(relations):
+        for p in (rel.a, rel.b):
+            if p not in boxes:
+                boxes[p] = np.array([c.box for c in by_part[p]], dtype=float).reshape(-1, 2, 3)
         originals_a = [c for c in by_part[rel.a] if c.original]
         originals_b = [c for c in by_part[rel.b] if c.original]
         if originals_a and originals_b and not relation_holds(rel, originals_a[0].box,
@@ -286,7 +294,7 @@ def build_selection_model(candidates: Sequence[Candidate], relations: Sequence[R
                         "not preserved", rel.type, rel.a, rel.b, rel.axis)
             continue
         tag = f"{rel.a}-{rel.b}:{rel.type}@{rel.axis}"
-        conflicts = _conflicts(rel, by_part[rel.a], by_part[rel.b])
+        conflicts = _conflicts(rel, by_part[rel.a], by_part[rel.b], boxes[rel.a], boxes[rel.b])
         groups: dict[tuple[str, ...], list[str]] = {}
         for a_id in sorted(conflicts):
             groups.setdefault(conflicts[a_id], []).append(a_id)

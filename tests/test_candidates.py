@@ -496,13 +496,17 @@ def _generator_model(model):
     return prims, detect_relations(prims)
 
 
+@pytest.mark.parametrize("path", ["arrays", "few", "either"])
 @pytest.mark.parametrize("model", ["camera", "shared-faces"])
-def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
+def test_ranked_axis_options_equal_the_definition(model, path, monkeypatch):
     """Issue 13: the options of every axis, computed on arrays, are exactly those of the
     definition (every option built and ranked one by one), at every level and in stage (ii),
-    on the camera and on a generated 12-part assembly with shared faces and relations."""
+    on the camera and on a generated 12-part assembly with shared faces and relations; so
+    are those of the small pools' path (``ranked_few``), here made to rank every pool."""
     from h2s_print import candidates as C
 
+    if path != "either":
+        monkeypatch.setattr(C, "SMALL_POOL", -1 if path == "arrays" else 10**9)
     prims, rels = _generator_model(model)
     fast = C._Generator.ranked_axis_options
     checked = []
@@ -517,6 +521,86 @@ def test_ranked_axis_options_equal_the_definition(model, monkeypatch):
     monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
     generate_candidates(prims, rels, SolverSettings())
     assert len(checked) > 10 and sum(checked) > 30
+
+
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_keeps_relations_is_holds_with_every_ancestor(model, monkeypatch):
+    """build's relation test (the ancestors' side read once per lineage) answers as
+    ``_holds`` asked of every preserved relation with an ancestor, on every box built."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model(model)
+    fast = C._Generator.keeps_relations
+    answers = []
+
+    def both(box, lineage):
+        got = fast(box, lineage)
+        want = True
+        for rel, obox, here_is_a, *_ in lineage.checks:
+            want = want and (C._holds(rel, box, obox) if here_is_a else C._holds(rel, obox, box))
+        assert got == want, (box, lineage)
+        answers.append(got)
+        return got
+
+    monkeypatch.setattr(C._Generator, "keeps_relations", staticmethod(both))
+    generate_candidates(prims, rels, SolverSettings())
+    assert len(answers) > 10 and True in answers
+    assert model == "camera" or False in answers  # the camera's candidates break none
+
+
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_build_costs_and_bounds_equal_the_definitions(model, monkeypatch):
+    """build's E_d (the options' axis costs summed, or from per-part terms when a cylinder
+    was rounded) is ``_adjust_cost`` of every candidate built, and ``bounds`` (each
+    option's E_e found once) is ``bound`` combination by combination, to the last bit."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model(model)
+    build, bounds = C._Generator.build, C._Generator.bounds
+    seen = {"adjust": 0, "bounds": 0}
+
+    def build_checked(self, part, box, anchors, extra_parents=(), axis_costs=None):
+        got = build(self, part, box, anchors, extra_parents, axis_costs)
+        if got is not None:
+            cand = got[0]
+            want = C._adjust_cost(self.ctx.prims[part].box, cand.box, anchors)
+            assert cand.cost_adjust == want, (part, cand.box)
+            seen["adjust"] += 1
+        return got
+
+    def bounds_both(self, part, combos):
+        got = bounds(self, part, combos)
+        assert got == [self.bound(part, c) for c in combos], part
+        seen["bounds"] += len(got)
+        return got
+
+    monkeypatch.setattr(C._Generator, "build", build_checked)
+    monkeypatch.setattr(C._Generator, "bounds", bounds_both)
+    generate_candidates(prims, rels, SolverSettings())
+    assert seen["adjust"] > 10 and seen["bounds"] > 10
+
+
+def test_ranked_few_equals_the_arrays(monkeypatch):
+    """The small pools' path builds the very options of the array path, costs and areas too,
+    on every pool of a generated assembly (issue 13's speed-up of restoring)."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model("shared-faces")
+    fast = C._Generator.ranked_axis_options
+    sizes = []
+
+    def both(self, part, axis, ends, fresh, per_group, total):
+        monkeypatch.setattr(C, "SMALL_POOL", -1)
+        want = fast(self, part, axis, ends, fresh, per_group, total)
+        monkeypatch.setattr(C, "SMALL_POOL", 10**9)
+        got = fast(self, part, axis, ends, fresh, per_group, total)
+        assert got == want, (part, axis)
+        sizes.append(len(got))
+        return got
+
+    monkeypatch.setattr(C._Generator, "ranked_axis_options", both)
+    generate_candidates(prims, rels, SolverSettings())
+    assert len(sizes) > 10 and sum(sizes) > 30
 
 
 @pytest.mark.parametrize("kind", ["coplanar", "bisector", "coaxial"])
