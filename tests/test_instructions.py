@@ -277,7 +277,8 @@ def test_every_letter_named_is_drawn_at_its_projection_without_overlap(examples,
                 page = pages[k // per]
                 rect, scale = _pictures(page, vp)[k % per]
                 box = (rect.x_mm, rect.y_mm, rect.x_mm + rect.w_mm, rect.y_mm + rect.h_mm)
-                inside = lambda it: (box[0] <= it.x_mm <= box[2] and box[1] <= it.y_mm <= box[3])
+                def inside(it, box=box):
+                    return box[0] <= it.x_mm <= box[2] and box[1] <= it.y_mm <= box[3]
                 # a close-up: its frame in the picture, the enlargement right after it in the
                 # page's items (in the picture or beside it)
                 regions = [it for it in page.items if isinstance(it, L.Rect)

@@ -241,7 +241,8 @@ def test_step_panel_maps_the_sheet_uniformly_and_keeps_strokes_inside():
 def test_guide_lifetime_colours_and_greyscale_styles():
     plan, pages = workbook("novice")
     by_step = {i + 1: page for i, page in enumerate(pages[2:7])}
-    roles = lambda p: sorted(it.role for it in polylines(p) if it.role.startswith("guide"))
+    def roles(p):
+        return sorted(it.role for it in polylines(p) if it.role.startswith("guide"))
     assert roles(by_step[1]) == []
     assert roles(by_step[2]) == ["guide_new", "guide_new"]          # g_half, g_mid new
     assert roles(by_step[3]) == ["guide_idle", "guide_reused"]      # g_half reused, g_mid waits
@@ -431,7 +432,8 @@ def _on_line(p, a, b):
 def test_primer_constructions_are_projectively_exact():
     d = {x.key: x for x in L.primer_diagrams()}
     assert set(d) == {"half", "quarter", "third", "extend", "extend_half", "ellipse"}
-    part = lambda key, role: [s for s in d[key].segments if s[2] == role]
+    def part(key, role):
+        return [s for s in d[key].segments if s[2] == role]
     # 1/2: the result passes through the diagonals' crossing, and stays vertical (two-point)
     (ac, bd), (res,) = part("half", "construction"), part("half", "result")
     assert _on_line(_meet(ac[0], ac[1], bd[0], bd[1]), res[0], res[1]) < 1e-6

@@ -58,7 +58,8 @@ def test_page_count_and_instruction_text_on_every_step_page(novice):
     plan, pages, data = novice
     reader = read(data)
     assert len(reader.pages) == 9  # cover, primer, 5 novice step pages, final, sheet
-    squash = lambda s: re.sub(r"\s+", "", s)
+    def squash(s):
+        return re.sub(r"\s+", "", s)
     for i, step in enumerate(plan.steps):
         got = squash(reader.pages[2 + i].extract_text())
         assert squash(L.plain_text(step.text)) in got, step.index

@@ -1594,7 +1594,6 @@ def test_sizes_by_eye_are_compared_with_a_drawn_part_at_the_ratio_said(examples)
     """Every size said ("Make its height about a third of the base's") holds on the selected
     boxes within the tolerance, with the first reference that has an easy ratio; axes sized
     this way are not also left "by eye"; and the pages say such sizes."""
-    from h2s_print import sequence as seq
     from h2s_print.templates import lookup
 
     value = {name: v for v, name in seq_context.SIZE_RATIOS}
@@ -1648,7 +1647,6 @@ def test_a_line_is_carried_across_its_direction_and_extended_along_it(examples):
     """"Carry AB vertically, as pictured" never names a line that is itself vertical: such a
     line is extended ("Extend AB as pictured."), checked on the lettered points' 3D
     positions."""
-    from h2s_print import sequence as seq
     from h2s_print.templates import lookup
 
     carry = lookup("steps", "substep.carry").split("{")[0]  # "Carry "
@@ -1740,7 +1738,6 @@ def test_a_tutorial_stays_within_its_steps_per_shape(examples):
     ``_Context.congruent``), plus 3, in every example view at novice.  Outline steps are packed
     up to the word limit, not two to a step: the roller's high-right view took four outline
     steps for seven parts and 21 steps against its 20.5."""
-    from h2s_print import sequence as seq
 
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
@@ -1809,7 +1806,6 @@ def test_citations_say_what_they_place_as_far_as_the_words_allow(examples):
 def test_parts_named_alike_but_for_a_number_are_labelled_on_their_step(examples):
     """A step that draws "wheel 1, wheel 3, wheel 5 and wheel 7" labels each on its picture
     (a read-through asked which wheel was which), at its box's centre."""
-    from h2s_print import sequence as seq
     from h2s_print.names import stem
 
     checked = 0
