@@ -3607,13 +3607,15 @@ def test_a_line_carried_from_a_crossing_is_constructed_exactly(examples):
     meeting QS at S, for its top." (the roller's handle, where "Carry NP ... to R (by eye)"
     was): in 3D, R lies on the line GF and on the segment NP, RS runs along one model axis
     (toward the vanishing point said), S lies on the segment QS, and S is on the part's
-    plane said (its top): every point found by crossing lines already drawn."""
+    plane said (its top), where the sentence says it (a step short of words drops "for its
+    top": the roller's handle, high-right, since its carries cross on the roller's bottom
+    face): every point found by crossing lines already drawn."""
     from h2s_print.templates import lookup
 
     phrases = {v for k in ("vp", "vp_away") for v in lookup("steps", k).values() if "{" not in v}
     pattern = re.compile(r"Extend ([A-Z]'*[A-Z]'*) to ([A-Z]'*[A-Z]'*), meeting it at ([A-Z]'*);"
                          r" from \3, draw (\3([A-Z]'*)) (.+?), meeting ([A-Z]'*[A-Z]'*) at "
-                         r"\5, for its (.+)\.")
+                         r"\5(?:, for its (.+))?\.")
     found = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
@@ -3652,23 +3654,33 @@ def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
     from an end of FG in one coordinate only, and from an end of LM in one other), so the
     reader stops at a crossing, not "as pictured" (the bottle's neck, the roller's handle)."""
     cases = _novice_cases(examples, ("bottle_3763",))
-    checked = faces = 0
+    checked = faces = stops = 0
     for name, t, plan, view, vp in cases:
         for s in vp.steps:
             at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
             for x in s.substeps:
-                m = re.search(r"Carry ([A-Z]'*)([A-Z]'*) .+? and ([A-Z]'*)([A-Z]'*) .+? until "
-                              r"they cross at ([A-Z]'*)", x)
+                m = re.search(r"Carry ([A-Z]'*)([A-Z]'*) .+? and ([A-Z]'*)([A-Z]'*) (?:.+? to "
+                              r"([A-Z]+'*) on [^,]+? edge, )?.*?until they cross at ([A-Z]'*)", x)
                 if not m:
                     continue
                 box = np.asarray(plan.chosen()[s.part].box, float)
                 tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
-                cross = at[m.group(5)]
+                cross = at[m.group(6)]
                 axes = []
-                for a, b in ((m.group(1), m.group(2)), (m.group(3), m.group(4))):
-                    moves = [np.flatnonzero(np.abs(cross - at[p]) > tol) for p in (a, b)]
+                for a, b, stop in ((m.group(1), m.group(2), None),
+                                   (m.group(3), m.group(4), m.group(5))):
+                    # "... and LM toward the vanishing point below to S on the roller's bottom
+                    # edge, then toward the left vanishing point, until they cross at Q": LM to
+                    # S along one axis, S to Q along another
+                    to = cross if stop is None else at[stop]
+                    moves = [np.flatnonzero(np.abs(to - at[p]) > tol) for p in (a, b)]
                     one = [mv for mv in moves if len(mv) == 1]
                     assert one, (name, view.name, s.index, x)
+                    if stop is not None:
+                        last = np.flatnonzero(np.abs(cross - to) > tol)
+                        assert len(last) == 1 and last[0] != one[0][0], (name, view.name, x)
+                        one = [last]
+                        stops += 1
                     axes.append(int(one[0][0]))
                 assert axes[0] != axes[1], (name, view.name, s.index, x)
                 # "... until they cross at Q on the roller's bottom face": Q is on that face
@@ -3683,7 +3695,7 @@ def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
                                for b in range(3)), (name, view.name, x)
                     faces += 1
                 checked += 1
-    assert checked >= 3 and faces >= 1
+    assert checked >= 3 and faces >= 1 and stops >= 1
 
 
 def test_a_carry_down_to_a_part_on_the_floor_turns_where_a_floor_line_meets_it(shared_models):

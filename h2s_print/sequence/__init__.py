@@ -30,7 +30,12 @@ What a tutorial contains, in order
    child's near face, or, where no anchor places that face but one centres the child, on
    its middle (two centring lines then meet on the parts' common bisector planes, the
    paper's roller); a turn on a plane no anchor places, or on no line of the paper, is
-   said "(by eye)".  An anchor on a parent that is
+   said "(by eye)".  Two centring lines off one parent that would not meet so (one on the
+   face away from the part: the roller's top, seen from above) are both carried along the
+   parent's own faces to its face toward the part, the first down a side face to the
+   parent's edge, and cross there (:func:`~.geometry._meeting_carries`: "... to S on the
+   roller's bottom edge, then toward the left vanishing point, until they cross at Q").
+   An anchor on a parent that is
    flat along the anchored axis (``face_normal == axis``) needs no construction: the text says
    "in the plane of ..." and no guide is drawn.  A frustum parent's box faces are not drawn
    (its scaffold is the tapered solid), so a construction on it first draws the box around it

@@ -80,6 +80,8 @@ from .geometry import (
     _floor_corner,
     _floor_under,
     _Line,
+    _Meeting,
+    _meeting_carries,
     _mostly_on,
     _moving_axis,
     _on_face,
@@ -1163,6 +1165,20 @@ class _Context(_Repeats, _Ellipses):
             if entry_for(anchor.ratio).needs_room:  # an edge extended needs no room on the face
                 faces.setdefault((anchor.parent, face.normal, face.end), (face, []))[1].extend(own)
             built.append((anchor, parent.part, face, con, own, carry))
+        # two centring lines off one parent that would not meet where they turn (one turned
+        # by eye where the part's face will be: the roller's handle, high-right), made to
+        # cross on the parent's face toward the part (geometry._meeting_carries)
+        meeting: tuple[int, int, _Meeting] | None = None
+        mids = [k for k, (an, _, _, _, _, c) in enumerate(built) if an.end == "mid" and c]
+        if len(mids) == 2 and built[mids[0]][0].parent == built[mids[1]][0].parent:
+            i, j = mids
+            got = _meeting_carries((built[i][3], built[j][3]), (built[i][2], built[j][2]),
+                                   _drawn_box(self.plan.primitive(part), cand.box),
+                                   self.camera, 10.0 * self.tol)
+            if got is not None:
+                meeting = (i, j, got)
+                for k, c in zip((i, j), got.carries):
+                    built[k] = built[k][:5] + (list(c),)
         for ppart, pairs in on_faces.items():  # said once per parent
             # a flat rectangle's "face" across its plane is an edge (a read-through: "lie on
             # part 1's right, left and bottom faces" of the IVAR box's flat base), and its
@@ -1343,7 +1359,9 @@ class _Context(_Repeats, _Ellipses):
                 unit.room = unit.room or entry_for(anchor.ratio).needs_room
                 unit.results.append((a, b))
             unit.lines += own
-            if carry and k in crossings:
+            if meeting is not None and k in meeting[:2]:
+                carried_anchors.append(anchor)  # said once both are built, below
+            elif carry and k in crossings:
                 x = crossings[k]
                 carried_anchors.append(anchor)
                 carry_lines += x.lines
@@ -1529,6 +1547,25 @@ class _Context(_Repeats, _Ellipses):
         # each sentence's lines and the anchors they place
         said_by = [([ln for g in keys for ln in by_group[g][0]],
                     [a for g in keys for a in by_group[g][1]]) for keys in pieces]
+        if meeting is not None:  # the carry without a stop first: "Carry FG ... and LM ...
+            i, j, got = meeting  # to S on the roller's bottom edge, then ..."
+            plain, stopped = ((j, i) if got.stopped == 0 else (i, j))
+            go, gs = got.carries[plain == j], got.carries[stopped == j]
+            ppart = built[i][1]
+            res = [(built[k][3].result.start, built[k][3].result.end) for k in (plain, stopped)]
+            slide = _moving_axis(gs[1])
+            x = spec("carry_meet_edge", lines=Many((Pts(res[0]),)),
+                     vp=words.vp(_moving_axis(go[0]), go[0].start, go[0].end),
+                     lines2=Many((Pts(res[1]),)),
+                     vp2=words.vp(_moving_axis(gs[0]), gs[0].start, gs[0].end),
+                     point=Pts((got.stop,)), vp4=words.vp(slide, gs[1].start, gs[1].end),
+                     turns=Many((Pts((got.at,)),)), line=Pts((got.at, got.end)),
+                     vp3=words.vp(got.plane[0], got.at, got.end),
+                     the_parent=_the(self.say(ppart)), face=words.face(*got.plane))
+            lines = _distinct(list(go) + list(gs), self.tol)
+            carry_lines += lines
+            carrying.append(x)
+            said_by.append((lines, [built[i][0], built[j][0]]))
         carrying += [x for x, _, _ in crossed]  # after the carries: the line they meet first
         said_by += [(lines, [anchor]) for _, lines, anchor in crossed]
         # per sentence, its specs: a carry that turns on the floor after the line along the

@@ -434,6 +434,98 @@ def _crossing_carry(con: Any, face: Face, carry: Sequence[_Line], mid_con: Any,
                      (leg.start, leg.end))
 
 
+@dataclass(frozen=True, slots=True)
+class _Meeting:
+    """Two centring carries made to cross on the parent's face toward the part
+    (:func:`_meeting_carries`)."""
+
+    carries: tuple[tuple[_Line, ...], tuple[_Line, ...]]  # each, in the order given, to R
+    stop: Vec3  # T: where the carry down a side face meets the parent's edge
+    stopped: int  # which of the two carries stops there (0 or 1)
+    at: Vec3  # R, the crossing, on the parent's face toward the part
+    end: Vec3  # Q, on the part's face toward the parent: R-Q is both carries' last leg
+    plane: tuple[int, str]  # that parent face: (axis, "lo" or "hi")
+
+
+def _meeting_carries(cons: Sequence[Any], faces: Sequence[Face], child: Box, camera: Camera,
+                     tol: float) -> _Meeting | None:
+    """Two centring lines of one part on one parent (``cons``, on ``faces``), across the two
+    axes other than the one along which the part lies beyond the parent (the roller's handle,
+    below the roller, seen from above): both carried along the parent's own faces to its face
+    toward the part, where they cross at ``R`` (the crossing of two drawn lines), then on
+    together to the part's face at ``Q``.  A line on a face across that axis (the roller's
+    top) goes down a side face the view shows to the parent's edge at ``T``, a drawn edge,
+    then along the face toward the part; a line on a side face leaves it along that face.
+    :func:`_carry_lines` turned the first at the part's face, where no line shows (a
+    read-through: "to R (by eye)", R fixing how far back the handle's top sits).  None where
+    the geometry is not that, or where both lines reach the crossing without a stop (they
+    meet on that face already: the front-left view)."""
+    c0, c1 = cons
+    if c0.axis == c1.axis:
+        return None
+    d = 3 - c0.axis - c1.axis
+    pbox = faces[0].box
+    if child[1][d] <= pbox[0][d] + tol:
+        side, plane, near = "lo", pbox[0][d], child[1][d]
+    elif child[0][d] >= pbox[1][d] - tol:
+        side, plane, near = "hi", pbox[1][d], child[0][d]
+    else:
+        return None
+    r = [0.0, 0.0, 0.0]
+    r[c0.axis], r[c1.axis], r[d] = c0.coord, c1.coord, plane
+    R = (r[0], r[1], r[2])
+    q = list(r)
+    q[d] = near
+    Q = (q[0], q[1], q[2])
+    if (abs(plane - near) <= tol or not all(pbox[0][b] - tol <= R[b] <= pbox[1][b] + tol
+                                            for b in (c0.axis, c1.axis))):
+        return None
+    if sum(f.normal == d for f in faces) != 1:
+        return None
+    out: list[tuple[_Line, ...]] = []
+    stop: Vec3 | None = None
+    stopped = 0
+    for i, (con, face) in enumerate(zip(cons, faces)):
+        a, n = con.axis, face.normal
+        if n != d:  # the line runs along d on a side face: leave it along the face plane
+            if _moving_axis(_Line("", con.result.start, con.result.end)) != d:
+                return None
+            e = [0.0, 0.0, 0.0]
+            e[a], e[n], e[d] = con.coord, face.coord, plane
+            pts = [(e[0], e[1], e[2]), R]
+        else:  # on the face across d, away from the part: down a side face the view shows
+            if abs(face.coord - plane) <= tol:
+                return None
+            o = 3 - a - d
+            centre = 0.5 * (child[0][o] + child[1][o])
+            ends = sorted(("lo", "hi"), key=lambda s: (
+                not _front_facing(Face(pbox, o, s), camera),
+                abs(pbox[0 if s == "lo" else 1][o] - centre)))
+            ov = pbox[0 if ends[0] == "lo" else 1][o]
+            e = [0.0, 0.0, 0.0]
+            e[a], e[o], e[d] = con.coord, ov, face.coord
+            t = list(e)
+            t[d] = plane
+            stop, stopped = (t[0], t[1], t[2]), i
+            if not _on_segment(e, con.result.start, con.result.end, tol):
+                return None
+            pts = [(e[0], e[1], e[2]), stop, R]
+        legs = []
+        for s, t_ in zip(pts, pts[1:]):
+            if max(abs(s[k] - t_[k]) for k in range(3)) <= tol:
+                continue
+            ln = align(s, t_)
+            legs.append(_Line("vanishing", ln.start, ln.end))
+        if not legs:
+            return None
+        out.append(tuple(legs))
+    if stop is None:
+        return None
+    ln = align(R, Q)
+    last = _Line("vanishing", ln.start, ln.end)
+    return _Meeting((out[0] + (last,), out[1] + (last,)), stop, stopped, R, Q, (d, side))
+
+
 def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[int, float]:
     """What ``carry`` costs the reader: its legs along an edge of the parent's box first
     (they draw nothing new: "Carry ST toward the left vanishing point" along the seat's own
