@@ -3698,6 +3698,77 @@ def test_two_carried_lines_said_to_cross_do_cross(examples, shared_models):
     assert checked >= 3 and faces >= 1 and stops >= 1
 
 
+def test_two_centring_carries_cross_on_the_parents_face_toward_the_part(examples):
+    """"Carry FG toward the right vanishing point and LM toward the vanishing point below to
+    S on the roller's bottom edge, then toward the left vanishing point, until they cross at
+    Q; draw QR toward the vanishing point below." (the roller's handle, high-right, where
+    "Carry FG ... to R (by eye)" was: R fixed how far back the handle's top sits).  In 3D:
+    S is on the named parent's edge (two of its box's planes, the named face's one) and LM
+    reaches it along one axis; Q is on both carried lines (FG's carry along one axis, S-Q
+    along another), on the parent's named face plane and on the part's two middle planes;
+    R, below Q along the third axis, is on the part's face toward the parent; every one of
+    these lines is a stroke of the step, and the placing step centres the part on QR.  No
+    carry of the part is said by eye any more."""
+    from h2s_print.templates import lookup
+
+    faces = {"top": (2, 1), "bottom": (2, 0), "front": (1, 0), "back": (1, 1)}
+    template = lookup("steps", "substep.carry_meet_edge")
+    pattern = re.compile(re.escape(template).replace(r"\{", "{").replace(r"\}", "}").format(
+        lines="([A-Z]'*)([A-Z]'*)", lines2="([A-Z]'*)([A-Z]'*)", vp=".+?", vp2=".+?",
+        point="([A-Z]'*)", the_parent="the (.+?)", face="(\\w+)", vp4=".+?",
+        turns="([A-Z]'*)", line="([A-Z]'*)([A-Z]'*)", vp3=".+?"))
+    eye = lookup("steps", "substep.carry_turn_eye")
+    mark = eye[eye.index("{turns}") + len("{turns}"):eye.index(", then")]  # " (by eye)"
+    found = 0
+    for name, t, plan, vp in _all_views(examples):
+        chosen = plan.chosen()
+        for i, s in enumerate(vp.steps):
+            at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
+            segs = [(gd.from3d, gd.to3d) for gd in s.guides]
+            for x in s.substeps:
+                m = pattern.search(x)
+                if not m:
+                    continue
+                f, g, l_, m_, stop, parent, face, cross, q, r = m.groups()
+                assert q == cross, (name, vp.name, x)
+                box = np.asarray(chosen[s.part].box, float)
+                pbox = np.asarray(chosen[parent.replace(" ", "_")].box, float)
+                tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+                S, Q, R = at[stop], at[cross], at[r]
+
+                def moves(a, b):
+                    return list(np.flatnonzero(np.abs(a - b) > tol))
+
+                ax, k = faces[face]
+                on = [b for b in range(3) if min(abs(S[b] - pbox[0][b]), abs(S[b] - pbox[1][b]))
+                      <= tol]
+                assert len(on) == 2 and abs(S[ax] - pbox[k][ax]) <= tol, (name, vp.name, x)
+                assert any(len(moves(S, at[p])) == 1 for p in (l_, m_)), (name, vp.name, x)
+                first = [moves(Q, at[p]) for p in (f, g)]
+                assert any(len(mv) == 1 for mv in first), (name, vp.name, x)
+                assert len(moves(Q, S)) == 1, (name, vp.name, x)
+                assert abs(Q[ax] - pbox[k][ax]) <= tol, (name, vp.name, x)
+                d = moves(R, Q)
+                assert d == [ax], (name, vp.name, x)
+                mid = 0.5 * (box[0] + box[1])
+                assert all(abs(Q[b] - mid[b]) <= tol for b in range(3) if b != ax), (
+                    name, vp.name, x)
+                assert min(abs(R[ax] - box[0][ax]), abs(R[ax] - box[1][ax])) <= tol, (
+                    name, vp.name, x)
+                for a, b in ((S, Q), (Q, R)):  # guides of the step, each its whole length
+                    assert any(_on_segment(a, p0, p1, tol) and _on_segment(b, p0, p1, tol)
+                               for p0, p1 in segs), (name, vp.name, x)
+                # the placing step centres the part on QR, both ways
+                placing = next(n for n in vp.steps[i:] if n.part == s.part
+                               and n.kind == "primitive")
+                assert any(f"on {q}{r}" in y and y.startswith("Centre")
+                           for y in placing.substeps), (name, vp.name, placing.substeps)
+                said = " ".join(n.text for n in vp.steps if n.part == s.part)
+                assert mark not in said, (name, vp.name, said)
+                found += 1
+    assert found >= 2  # the roller's handle, high-right, novice and apprentice
+
+
 def test_a_carry_down_to_a_part_on_the_floor_turns_where_a_floor_line_meets_it(shared_models):
     """A read-through of the desk: "Carry FG vertically to H (by eye), then ..." for a foot
     standing on the floor, whose top nothing places.  The carry turns on the floor instead,
