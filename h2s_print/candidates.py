@@ -571,17 +571,6 @@ def _centred_on(orig: Box, axis: int, centre: float, max_change: float) -> tuple
     return lo0 + shift, hi0 + shift
 
 
-def _adjust_cost(orig: Box, box: Box, anchors: Sequence[Anchor]) -> float:
-    """E_d of ``box`` against the input box, given which ends are anchored."""
-    ends: tuple[set[str], set[str], set[str]] = (set(), set(), set())
-    for a in anchors:
-        ends[a.axis].add(a.end)
-    total = 0.0
-    for axis in range(3):
-        total += _axis_cost(orig, axis, box[0][axis], box[1][axis], 2 - len(ends[axis]))
-    return total
-
-
 def _round_cross(prim: Primitive, box: Box, anchors: Sequence[Anchor],
                  max_change: float) -> Box | None:
     """``box`` with a cylinder's cross-section kept round, or None when it cannot be.
@@ -778,8 +767,10 @@ class _Generator:
         return cost
 
     def adjust_cost(self, part: str, box: Box, anchors: Sequence[Anchor]) -> float:
-        """:func:`_adjust_cost` of a box of ``part``, its input box's terms found once per
-        part: the same expressions in the same order, so the same E_d."""
+        """E_d of a box of ``part`` against its input box, given which ends are anchored:
+        :func:`_axis_cost` summed over the axes, its input box's terms found once per part
+        (the same expressions in the same order, so the same E_d: the test's reference sums
+        ``_axis_cost`` itself)."""
         terms = self.ctx.axis_terms.get(part)
         if terms is None:
             orig = self.ctx.prims[part].box
@@ -1379,24 +1370,13 @@ class _Generator:
                 state.add(built[0].cost(self.w_a, self.w_d), groups[i] if diverse else _NO_GROUP)
         return made
 
-    def bound(self, part: str, combo: tuple[_AxisOption, ...]) -> float:
-        """A lower bound of the weighted cost of the candidate ``combo`` builds
-        (:meth:`build_cheapest`)."""
-        prim = self.ctx.prims[part]
-        costs = [o.cost_adjust for o in combo]
-        if prim.type == "cylinder" and prim.axis is not None:  # rounding may move one cross axis
-            adjust = costs[prim.axis] + min(costs[a] for a in range(3) if a != prim.axis)
-        else:
-            adjust = costs[0] + costs[1] + costs[2]
-        diff = 0.0
-        for o in combo:
-            diff = max(diff, self.difficulty(o.anchors) if o.anchors else 0.0)
-        return (self.w_a * adjust + self.w_d * diff) * (1 - 1e-9)
-
     def bounds(self, part: str, combos: Sequence[tuple[_AxisOption, ...]]) -> list[float]:
-        """:meth:`bound` of every combination, each option's E_e found once (a part's
-        hundreds of combinations share a few options per axis): the same expressions, so
-        the same bounds (the test compares them)."""
+        """A lower bound of the weighted cost of the candidate each combination builds
+        (:meth:`build_cheapest`): its options' axis costs summed (a cylinder's rounding may
+        move one cross axis: then only the cheaper of the two counts) and the largest of their
+        own E_e, each option's found once (a part's hundreds of combinations share a few
+        options per axis; the test compares them with the definition, combination by
+        combination)."""
         prim = self.ctx.prims[part]
         cyl = prim.axis if prim.type == "cylinder" and prim.axis is not None else None
         u, v = (a for a in range(3) if a != cyl) if cyl is not None else (0, 0)
