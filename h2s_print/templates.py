@@ -56,7 +56,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "nth", "other", "other2", "parent", "part", "parts", "point", "point2", "points",
         "position", "pside", "psides", "reused", "second", "shape", "shift", "side", "sides",
         "small", "start", "step", "text", "the_other", "the_others", "the_parent", "the_parents",
-        "the_part", "through", "total", "turns", "vp", "vp2", "vp3", "vp4", "where", "words")),
+        "the_part", "through", "total", "turns", "turns2", "vp", "vp2", "vp3", "vp4", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "example", "first", "full", "hdir", "index",
         "label", "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part",

@@ -1844,7 +1844,8 @@ def test_a_placing_step_says_whether_its_lines_were_carried_or_extended(examples
     """"Use the lines carried in step N" only where step N carried lines; where step N only
     extended lines to the part ("Extend ST, QR and AB to the bowl"), the citation says
     extended (a read-through of the mixer: step 5 cited lines "carried" in step 4, which had
-    carried nothing)."""
+    carried nothing).  A line extended and then turned ("Extend ST toward the right vanishing
+    point to C, then away from the vanishing point below": a walked carry) is carried."""
     from h2s_print.templates import lookup
 
     carried_at = lookup("steps", "substep.reuse_carried").split("{")[0]
@@ -1853,6 +1854,10 @@ def test_a_placing_step_says_whether_its_lines_were_carried_or_extended(examples
              lookup("steps", "substep.carry_two").split("{")[0],
              lookup("steps", "substep.carry_turn").split("{")[0])
     extend = lookup("steps", "substep.extend_to").split("{")[0]
+    turning = [re.compile(re.sub(r"\\\{\w+\\\}", ".+", re.escape(lookup("steps", f"substep.{k}"))))
+               for k in ("extend_turn", "extend_turn_to", "extend_turn_for", "extend_turn_to_for",
+                         "extend_walk", "extend_walk_to", "extend_walk_for",
+                         "extend_walk_to_for")]
     seen = {"carried": 0, "extended": 0}
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":
@@ -1865,8 +1870,11 @@ def test_a_placing_step_says_whether_its_lines_were_carried_or_extended(examples
                         continue
                     n = int(re.match(r"\d+", body[len(head):]).group(0))
                     cited = vp.steps[n - 1].substeps
-                    carries = any(y.split(". ", 1)[-1].startswith(carry) for y in cited)
-                    extends = any(y.split(". ", 1)[-1].startswith(extend) for y in cited)
+                    turned = [y for y in cited if any(turn.match(y.split(". ", 1)[-1])
+                                                      for turn in turning)]
+                    carries = any(y.split(". ", 1)[-1].startswith(carry) for y in cited) or turned
+                    extends = any(y.split(". ", 1)[-1].startswith(extend) for y in cited
+                                  if y not in turned)
                     assert carries if kind == "carried" else (extends and not carries), (
                         name, vp.name, s.index, x, cited)
                     seen[kind] += 1
@@ -3953,3 +3961,128 @@ def test_segment_lookups_in_bulk_are_the_scans_they_replace():
         for p, q in kept:
             if g._on_segment(point, p, q, tol):
                 assert g._near_segment(point, p, q, 2 * tol)
+
+
+def _walk_setup(with_wall: bool = True):
+    """A lens-like box in front of a body-like box whose top a small part stands on: the
+    construction is the line three quarters across the lens's front face (x = 2.5)."""
+    from h2s_print.constructions import Face, construct
+
+    lens = ((-5.0, -10.0, 0.0), (5.0, 0.0, 10.0))
+    body = ((-20.0, 0.0, -5.0), (20.0, 30.0, 15.0))
+    child = ((1.0, 5.0, 15.0), (4.0, 10.0, 18.0))
+    face = Face(lens, 1, "lo")
+    con = construct(face, 0, 0.75)
+    segs = []
+    for box in ([lens, body] if with_wall else [lens]):  # every box edge along x
+        lo, hi = box
+        for y in (lo[1], hi[1]):
+            for z in (lo[2], hi[2]):
+                segs.append(((lo[0], y, z), (hi[0], y, z)))
+    return con, face, child, segs
+
+
+def test_a_walked_carry_turns_only_where_drawn_lines_cross_its_plane():
+    """geometry._walk_carry, against its definition: every leg lies in the plane of the
+    construction's line (x = 2.5) and runs along one axis, the legs alternate, each turn is
+    where a drawn line along x crosses that plane (on the segment), the walk starts at an end
+    of the line and ends on the line of a side of the part, across the part's whole edge.
+    Here: along the lens's top to its back edge, up the body's front to its top edge, then
+    along the body's top over the part's bottom to its far side.  With nothing drawn that
+    touches the part (no body), there is no walk."""
+    con, face, child, segs = _walk_setup()
+    walk = seq_geometry._walk_carry(con, face, child, segs, 1e-9)
+    assert walk is not None
+    pts = [np.asarray(walk[0].start, float)] + [np.asarray(ln.end, float) for ln in walk]
+    assert all(abs(p[0] - 2.5) <= 1e-9 for p in pts)
+    axes = []
+    for a, b in zip(pts, pts[1:]):
+        moving = np.flatnonzero(np.abs(b - a) > 1e-9)
+        assert len(moving) == 1
+        axes.append(int(moving[0]))
+    assert all(x != y for x, y in zip(axes, axes[1:]))
+    res = [np.asarray(p, float) for p in (con.result.start, con.result.end)]
+    assert any(np.allclose(pts[0], r) for r in res)
+    for t in pts[1:-1]:  # each turn on a drawn line along x
+        assert any(abs(t[1] - p[1]) <= 1e-9 and abs(t[2] - p[2]) <= 1e-9
+                   and min(p[0], q[0]) <= t[0] <= max(p[0], q[0]) for p, q in segs)
+    last_from, last_to = pts[-2], pts[-1]
+    lo, hi = (np.asarray(v, float) for v in child)
+    k = axes[-1]
+    fixed = [b for b in (1, 2) if b != k][0]
+    assert min(abs(last_from[fixed] - lo[fixed]), abs(last_from[fixed] - hi[fixed])) <= 1e-9
+    assert min(last_from[k], last_to[k]) <= lo[k] + 1e-9 and max(last_from[k], last_to[k]) >= hi[k] - 1e-9
+    # the route: the lens's top back edge, the body's top front edge, then over the part
+    assert np.allclose(pts, [(2.5, -10, 10), (2.5, 0, 10), (2.5, 0, 15), (2.5, 10, 15)])
+    con, face, child, segs = _walk_setup(with_wall=False)
+    assert seq_geometry._walk_carry(con, face, child, segs, 1e-9) is None
+
+
+def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
+    """"Carry MP and XY toward the left vanishing point to C and D, vertically to E and Q,
+    then toward the left vanishing point" (the camera's flash, where "to C and D (by eye),
+    then vertically" was: C and D lay inside the body, where the flash's front would be).
+    In 3D, from the step's labels: each carried line, its two turns and its walk stay in one
+    plane across one axis; each turn is reached along one axis from the point before it; and
+    each turn is where a line drawn before, or a guide of the step, running across that plane
+    crosses it.  "Carry XY from A away from the vanishing point below" (the train's chimney,
+    high-right): A is on XY, where a line drawn before crosses XY's plane.  The camera's
+    tutorials say nothing "(by eye)" any more."""
+    from h2s_print.templates import lookup
+
+    eye = lookup("steps", "substep.carry_turn_eye")
+    mark = eye[eye.index("{turns}") + len("{turns}"):eye.index(", then")]  # " (by eye)"
+    patterns = []
+    for key in ("carry_walk", "carry_walk_for", "extend_walk", "extend_walk_for",
+                "carry_from_walk", "carry_from_walk_for", "carry_from", "carry_from_for"):
+        text = lookup("steps", f"substep.{key}")
+        rx = re.escape(text).replace(r"\{", "{").replace(r"\}", "}")
+        two = r"(?:[A-Z]'*){2}"
+        one = r"[A-Z]'*"
+        patterns.append(re.compile(rx.format(
+            lines=f"({two}(?:(?:, | and ){two})*)", vp=".+?", vp2=".+?", vp3=".+?",
+            turns=f"({one}(?:(?:, | and ){one})*)", turns2=f"({one}(?:(?:, | and ){one})*)",
+            sides=".+?")))
+    found = 0
+    for name, t, plan, vp in _all_views(examples):
+        drawn: list[tuple] = []
+        for s in vp.steps:
+            segs = drawn + [(g.from3d, g.to3d) for g in s.guides]
+            at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
+            box = np.asarray(plan.chosen()[s.part].box, float) if s.part else None
+            for x in s.substeps:
+                m = next((m for p in patterns if (m := p.search(x))), None)
+                if not m:
+                    continue
+                lines = [re.findall(r"[A-Z]'*", ln) for ln in re.split(r", | and ", m.group(1))]
+                firsts = re.findall(r"[A-Z]'*", m.group(2))
+                # (a carry from a point on the line turns once: "Carry XY from A ...")
+                seconds = (re.findall(r"[A-Z]'*", m.group(3)) if m.re.groups > 2
+                           else [None] * len(firsts))
+                assert len(lines) == len(firsts) == len(seconds), (name, vp.name, x)
+                tol = 1e-6 * float(np.linalg.norm(box[1] - box[0]))
+                for (p, q), t1, t2 in zip(lines, firsts, seconds):
+                    P, Q, T1 = at[p], at[q], at[t1]
+                    turns = [T1] + ([at[t2]] if t2 else [])
+                    plane = [a for a in range(3)
+                             if max(abs(v[a] - P[a]) for v in (Q, *turns)) <= tol]
+                    assert plane, (name, vp.name, x)
+                    start = min((P, Q), key=lambda v: float(np.linalg.norm(v - T1)))
+                    for u, v in zip([start] + turns, turns):
+                        assert int((np.abs(v - u) > tol).sum()) <= 1, (name, vp.name, x)
+                    if " from " in x.split(" toward ")[0].split(" away ")[0]:
+                        assert _on_segment(T1, P, Q, tol), (name, vp.name, x)  # on the line
+                    for turn in turns:
+                        assert any(
+                            abs(s1[a] - s0[a]) > tol and all(
+                                abs(s0[b] - s1[b]) <= tol for b in range(3) if b != a)
+                            and _on_segment(turn, s0, s1, tol)
+                            for a in plane
+                            for s0, s1 in ((np.asarray(u, float), np.asarray(v, float))
+                                           for u, v in segs)), (name, vp.name, x, t1, t2)
+                found += 1
+            drawn += [(st.points3d[k], st.points3d[k + 1]) for st in s.strokes
+                      for k in range(len(st.points3d) - 1)]
+        if name == "camera":
+            assert not any(mark in st.text for st in vp.steps), (vp.name, vp.level)
+    assert found >= 6  # the camera's flash (both views, novice and apprentice), the chimney

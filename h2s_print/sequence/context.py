@@ -79,6 +79,7 @@ from .geometry import (
     _extent,
     _floor_corner,
     _floor_under,
+    _walk_carry,
     _Line,
     _Meeting,
     _meeting_carries,
@@ -1309,6 +1310,14 @@ class _Context(_Repeats, _Ellipses):
                 if got is not None:
                     crossings[k] = got
                     break
+        # carries that would turn by eye, walked along lines drawn before instead
+        # (geometry._walk_carry: the camera's flash)
+        walked = self.walk_carries(part, cand, built, {*crossings, *(meeting or ())[:2]},
+                                   drawn, floor_z, foot)
+        seconds: dict[tuple[int, int | None], list[Pts]] = {}  # a walk's second turns
+        lasts: dict[tuple[int, int | None], tuple[Vec3, Vec3]] = {}  # and its last leg
+        walked_keys: set[tuple[int, int | None]] = set()
+        walk_boxes: dict[tuple[int, int | None], list[str]] = {}  # boxes they turn on
         crossed: list[tuple[Spec, list[_Line], Any]] = []  # (sentence, its lines, anchor)
         for k, (anchor, ppart, face, con, own, carry) in enumerate(built):
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -1397,6 +1406,15 @@ class _Context(_Repeats, _Ellipses):
                         and (turn is not None or len(carry) == 1) else None)
                     if turn is not None:  # where it turns, lettered on the picture
                         corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
+                    if turn is not None and k in walked:  # it turns where drawn lines cross
+                        walked_keys.add((first, turn))
+                        for other in walked[k]:
+                            if other not in walk_boxes.setdefault((first, turn), []):
+                                walk_boxes[first, turn].append(other)
+                        if len(carry) > 2:
+                            seconds.setdefault((first, turn), []).append(Pts((carry[1].end,)))
+                            lasts[first, turn] = (carry[2].start, carry[2].end)
+                    elif turn is not None:
                         n = face.normal  # the turn lies on a plane of the part across n
                         placed = [cand.box[0][n] if a.end == "lo" else cand.box[1][n]
                                   if a.end == "hi" else 0.5 * (cand.box[0][n] + cand.box[1][n])
@@ -1538,8 +1556,21 @@ class _Context(_Repeats, _Ellipses):
                     at = [e for r, e in zip(carried[axis, turn], ends[axis, turn]) if r in runs]
                     key = "carry_turn_eye" if (axis, turn) in by_eye_turns else "carry_turn"
                     to = {"points": Many(tuple(at))} if all(at) else {}
+                    if (axis, turn) in seconds:  # a walk that turns twice
+                        last = lasts[axis, turn]
+                        to = dict(to, turns2=Many(tuple(seconds[axis, turn])),
+                                  vp3=words.vp(_moving_axis(_Line("", *last)), *last))
+                        key = "carry_walk"
+                    if (axis, turn) in walked_keys and all(_runs_along(r, axis) for r in runs):
+                        # its first leg along the line: extended to the turn, or carried from
+                        # it where the turn is on the line drawn (where a drawn line crosses)
+                        on = [_on_segment(c.points[0], *r.points, 10.0 * self.tol)
+                              for r, c in zip(runs, corners[axis, turn])]
+                        key = (("carry_from_walk" if key == "carry_walk" else "carry_from")
+                               if all(on) else "extend" + key[len("carry"):])
                     carrying.append(moving(
-                        key + "_to" if to else key, runs, vp=words.vp(axis, *legs[axis, turn][0]),
+                        key + "_to" if "points" in to else key, runs,
+                        vp=words.vp(axis, *legs[axis, turn][0]),
                         vp2=words.vp(turn, *legs[axis, turn][-1]),
                         turns=Many(tuple(corners[axis, turn])), **to))
         if extended:
@@ -1571,6 +1602,13 @@ class _Context(_Repeats, _Ellipses):
         # per sentence, its specs: a carry that turns on the floor after the line along the
         # floor from the floor line's foot to where it turns (one line each way it runs)
         sentences = [[x] for x in carrying]
+        for i, keys in enumerate(pieces):  # a walk turning on a box drawn before: drawn again
+            for other in [o for key in keys for o in walk_boxes.get(key, ())]:
+                around = self.box_around(other)
+                sentences[i].insert(0, spec("box_reuse", parent=self.say(other),
+                                            step=self._box_steps[other]))
+                said_by[i][0].extend(around)
+                carry_lines += around
         for i, keys in enumerate(pieces):
             for key in keys:
                 if key not in floor_legs or key in by_eye_turns:
@@ -1978,6 +2016,95 @@ class _Context(_Repeats, _Ellipses):
             self._scaffolds[part] = _scaffold(part, self.plan.primitive(part),
                                               self.chosen[part].box, self.camera, self.tol)
         return self._scaffolds[part]
+
+    def walk_carries(self, part: str, cand: Any, built: list[Any], skip: set[int],
+                     drawn: Sequence[str], floor_z: float | None, foot: Vec3 | None
+                     ) -> dict[int, tuple[str, ...]]:
+        """The carries of ``part``'s anchors (``built``, replaced in place) that would turn
+        by eye, walked along lines drawn before instead (geometry._walk_carry).
+
+        A carry turns by eye where it turns on a plane of the part no anchor places (nor the
+        floor it stands on): said "(by eye)", as the primitive step's loop finds it.  Carries
+        that one sentence says together (the same directions) are walked together, all of
+        them or none, and only where the walks share their directions and no other sentence
+        already uses them.  The lines a walk may turn on: the edges of the parts drawn
+        before, this step's own constructions, and the boxes drawn around tapered parts in
+        earlier steps (said again where a walk turns on them).
+        Not ``skip``: carries made another way (a crossing, two carries meeting).  Returned:
+        each walked carry's index and the tapered parts whose boxes, drawn in an earlier
+        step, it turns on (its step draws them again)."""
+        tol = 10.0 * self.tol
+
+        def key_of(carry: Sequence[_Line]) -> tuple[int, int | None]:
+            axes = [_moving_axis(c) for c in carry]
+            return axes[0], next((x for x in axes[1:] if x != axes[0]), None)
+
+        groups: dict[tuple[int, int | None], list[int]] = {}
+        for k, (_, _, _, _, _, carry) in enumerate(built):
+            if carry and k not in skip:
+                groups.setdefault(key_of(carry), []).append(k)
+        # the lines on the paper: edges of the parts drawn before, this step's lines every
+        # level with guides shows (not construction lines)
+        segments = [(p, q) for other in drawn for p, q in self.scaffold_ends(other)]
+        segments += [(ln.start, ln.end) for entry in built for ln in entry[4]
+                     if ln.role != "construction"]
+        eyed = []
+        for key, ks in groups.items():
+            if key[1] is None:
+                continue
+            # (what the loop finds a turn on: also the floor's line, the other carries' legs)
+            paper = segments + [(ln.start, ln.end) for k2, entry in enumerate(built)
+                                if k2 not in ks for ln in entry[5]]
+            for k in ks:
+                carry, n = built[k][5], built[k][2].normal
+                placed = [cand.box[0][n] if a.end == "lo" else cand.box[1][n]
+                          if a.end == "hi" else 0.5 * (cand.box[0][n] + cand.box[1][n])
+                          for a in cand.anchors if a.axis == n]
+                leg = (None if floor_z is None or n != 2
+                       else self.floor_leg(carry, floor_z, foot))
+                if leg is not None:
+                    placed.append(floor_z)
+                turn = carry[0].end
+                if (not any(abs(turn[n] - v) <= tol for v in placed)
+                        or not any(_near_segment(turn, p, q, 2.0 * tol)
+                                   and _on_segment(turn, p, q, tol)
+                                   for p, q in paper + ([leg] if leg else []))):
+                    eyed.append(key)
+                    break
+        if not eyed:
+            return {}
+        # and the boxes drawn around tapered parts before: a walk may turn on them, and its
+        # step then draws them again ("Use the box around the prism from step 6")
+        boxes = {other: [(ln.start, ln.end) for ln in self.box_around(other)]
+                 for other in drawn if other in self._box_steps}
+        every = segments + [seg for lines in boxes.values() for seg in lines]
+        child = _drawn_box(self.plan.primitive(part), cand.box)
+        used = set(groups)
+        out: dict[int, tuple[str, ...]] = {}
+        for key in eyed:
+            walks = [_walk_carry(built[k][3], built[k][2], child, every, tol)
+                     for k in groups[key]]
+            if any(w is None for w in walks):
+                continue
+            # one sentence says them: the same directions, each extended along its own line
+            # first or each carried off it
+            ways = {(tuple(_moving_axis(ln) for ln in w),
+                     _moving_axis(_Line("", built[k][3].result.start, built[k][3].result.end))
+                     == _moving_axis(w[0]))
+                    for k, w in zip(groups[key], walks) if w is not None}
+            if len(ways) != 1:
+                continue
+            new = key_of([ln for ln in walks[0] or ()])
+            if new != key and new in used:
+                continue
+            used.add(new)
+            for k, w in zip(groups[key], walks):
+                built[k] = built[k][:5] + (list(w or ()),)
+                turns = [ln.end for ln in (w or ())[:-1]]
+                out[k] = tuple(other for other, lines in boxes.items() if any(
+                    not any(_on_segment(t, p, q, tol) for p, q in segments)
+                    and any(_on_segment(t, p, q, tol) for p, q in lines) for t in turns))
+        return out
 
     def scaffold_ends(self, part: str) -> list[tuple[np.ndarray, np.ndarray]]:
         """The 3D ends of ``part``'s scaffold strokes in its selected box (computed once)."""

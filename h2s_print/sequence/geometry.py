@@ -526,6 +526,96 @@ def _meeting_carries(cons: Sequence[Any], faces: Sequence[Face], child: Box, cam
     return _Meeting((out[0] + (last,), out[1] + (last,)), stop, stopped, R, Q, (d, side))
 
 
+#: Legs a walked carry (:func:`_walk_carry`) takes before its last one, at most.
+WALK_LEGS = 2
+
+
+def _walk_carry(con: Any, face: Face, child: Box, segments: Sequence[tuple[Any, Any]],
+                tol: float) -> tuple[_Line, ...] | None:
+    """A carry that turns only where a drawn line crosses its plane, for one that
+    :func:`_carry_lines` would turn by eye (the camera's flash: "Carry MP and XY toward the
+    left vanishing point to C and D (by eye), then vertically", C and D inside the body,
+    where the flash's front will be, which no anchor places).
+
+    The carry stays in the plane of the construction's result line (``con.axis`` at
+    ``con.coord``), as any carry does.  In that plane, a drawn line running along
+    ``con.axis`` (an edge of a box drawn before, a guide of the step: ``segments``, 3D end
+    pairs) shows as a point the reader can find: where the carry meets that line.  From an
+    end of the result line, legs along the plane's two other axes join such points, at most
+    :data:`WALK_LEGS` of them (the flash: along the lens's top face to its back edge, then
+    up the body's and the prism box's fronts to the box's top edge), until one lies on the
+    line of a side of the ``child``'s box in the plane; a last leg along that line crosses
+    the child's box (its edge on that face, to the far side).  The fewest legs, then the
+    shortest, then the lowest coordinates.  None where no such walk exists (a part that
+    floats: nothing drawn touches its faces)."""
+    a, n = con.axis, face.normal
+    o = 3 - a - n
+    x = con.coord
+    points: list[tuple[float, float]] = []
+    for p, q in segments:
+        if (abs(q[n] - p[n]) > tol or abs(q[o] - p[o]) > tol or abs(q[a] - p[a]) <= tol
+                or not min(p[a], q[a]) - tol <= x <= max(p[a], q[a]) + tol):
+            continue
+        v = (0.5 * float(p[n] + q[n]), 0.5 * float(p[o] + q[o]))
+        if not any(abs(v[0] - w[0]) <= tol and abs(v[1] - w[1]) <= tol for w in points):
+            points.append(v)
+    points.sort()
+    res = con.result
+    starts = sorted({(float(e[n]), float(e[o])) for e in (res.start, res.end)})
+    sides = ((0, float(child[0][n]), float(child[1][n])), (1, float(child[0][o]), float(child[1][o])))
+
+    def last_leg(v: tuple[float, float]) -> tuple[float, float] | None:
+        """The last leg from ``v`` along a side line of the child through ``v``, else None."""
+        for k, lo, hi in sides:  # k: which coordinate the side fixes (0: n, 1: o)
+            if abs(v[k] - lo) <= tol or abs(v[k] - hi) <= tol:
+                j = 1 - k  # the leg runs along the other, to the child's far side
+                lo2, hi2 = sides[j][1], sides[j][2]
+                far = hi2 if abs(hi2 - v[j]) >= abs(lo2 - v[j]) else lo2
+                w = list(v)
+                w[j] = far
+                if abs(far - v[j]) > tol:
+                    return (w[0], w[1])
+        return None
+
+    best: tuple[tuple[float, ...], list[tuple[float, float]]] | None = None
+    paths = [[s] for s in starts]
+    for _ in range(WALK_LEGS + 1):
+        for path in paths:
+            end = last_leg(path[-1])
+            if end is None:
+                continue
+            full = path + [end]
+            length = sum(abs(p[0] - q[0]) + abs(p[1] - q[1]) for p, q in zip(full, full[1:]))
+            key = (length, *[c for p in full for c in p])
+            if best is None or key < best[0]:
+                best = (key, full)
+        if best is not None:
+            break
+        grown = []
+        for path in paths:
+            v = path[-1]
+            along = (None if len(path) < 2
+                     else 0 if abs(path[-2][1] - v[1]) <= tol else 1)  # the last leg's way
+            for w in points:
+                if any(max(abs(w[0] - u[0]), abs(w[1] - u[1])) <= tol for u in path):
+                    continue
+                way = 0 if abs(w[1] - v[1]) <= tol else 1 if abs(w[0] - v[0]) <= tol else None
+                if way is not None and way != along:  # legs alternate: one line each
+                    # (on the line it runs along exactly: the point differs by rounding)
+                    grown.append(path + [(w[0], v[1]) if way == 0 else (v[0], w[1])])
+        paths = grown
+    if best is None:
+        return None
+    out = []
+    for p, q in zip(best[1], best[1][1:]):
+        s_, e_ = [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+        s_[a] = e_[a] = x
+        s_[n], s_[o], e_[n], e_[o] = p[0], p[1], q[0], q[1]
+        ln = align((s_[0], s_[1], s_[2]), (e_[0], e_[1], e_[2]))
+        out.append(_Line("vanishing", ln.start, ln.end))
+    return tuple(out)
+
+
 def _carry_cost(con: Any, carry: list[_Line], pbox: Box, tol: float) -> tuple[int, float]:
     """What ``carry`` costs the reader: its legs along an edge of the parent's box first
     (they draw nothing new: "Carry ST toward the left vanishing point" along the seat's own
