@@ -81,6 +81,10 @@ def main() -> None:
     wanted["page-step-spacing"] = _spacing_page()
     wanted["page-step-bowl"], wanted["page-step-close-up"] = _round_pages()
     wanted["page-step-crossing"] = _crossing_page()
+    # the flash's sides carried over the lens's top and up the body's front, turning only
+    # where drawn edges cross their planes (sequence.geometry._walk_carry)
+    wanted["page-step-walk"] = next(pg for pg, st in zip(steps, view.steps)
+                                    if any(", vertically to " in x for x in st.substeps))
     wanted["page-cyrillic"] = _cyrillic_page()
     cjk = _cjk_page()
     if cjk is not None:
