@@ -3986,9 +3986,9 @@ def test_a_walked_carry_turns_only_where_drawn_lines_cross_its_plane():
     """geometry._walk_carry, against its definition: every leg lies in the plane of the
     construction's line (x = 2.5) and runs along one axis, the legs alternate, each turn is
     where a drawn line along x crosses that plane (on the segment), the walk starts at an end
-    of the line and ends on the line of a side of the part, across the part's whole edge.
-    Here: along the lens's top to its back edge, up the body's front to its top edge, then
-    along the body's top over the part's bottom to its far side.  With nothing drawn that
+    of the line and ends on the line of a side of the part, at the part's near side (as
+    every carry ends).  Here: along the lens's top to its back edge, up the body's front to
+    its top edge, then along the body's top to the part's bottom.  With nothing drawn that
     touches the part (no body), there is no walk."""
     con, face, child, segs = _walk_setup()
     walk = seq_geometry._walk_carry(con, face, child, segs, 1e-9)
@@ -4010,10 +4010,13 @@ def test_a_walked_carry_turns_only_where_drawn_lines_cross_its_plane():
     lo, hi = (np.asarray(v, float) for v in child)
     k = axes[-1]
     fixed = [b for b in (1, 2) if b != k][0]
+    # the last leg on the line of a side of the part, from outside it to its near side
     assert min(abs(last_from[fixed] - lo[fixed]), abs(last_from[fixed] - hi[fixed])) <= 1e-9
-    assert min(last_from[k], last_to[k]) <= lo[k] + 1e-9 and max(last_from[k], last_to[k]) >= hi[k] - 1e-9
-    # the route: the lens's top back edge, the body's top front edge, then over the part
-    assert np.allclose(pts, [(2.5, -10, 10), (2.5, 0, 10), (2.5, 0, 15), (2.5, 10, 15)])
+    assert not lo[k] <= last_from[k] <= hi[k]
+    near = lo[k] if last_from[k] < lo[k] else hi[k]
+    assert abs(last_to[k] - near) <= 1e-9
+    # the route: the lens's top back edge, the body's top front edge, then to the part
+    assert np.allclose(pts, [(2.5, -10, 10), (2.5, 0, 10), (2.5, 0, 15), (2.5, 5, 15)])
     con, face, child, segs = _walk_setup(with_wall=False)
     assert seq_geometry._walk_carry(con, face, child, segs, 1e-9) is None
 
@@ -4026,15 +4029,18 @@ def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
     plane across one axis; each turn is reached along one axis from the point before it; and
     each turn is where a line drawn before, or a guide of the step, running across that plane
     crosses it.  "Carry XY from A away from the vanishing point below" (the train's chimney,
-    high-right): A is on XY, where a line drawn before crosses XY's plane.  The camera's
-    tutorials say nothing "(by eye)" any more."""
+    high-right): A is on XY, where a line drawn before crosses XY's plane.  "Use NP from step
+    3. Extend FG vertically to S, then toward the left vanishing point to U." (the roller's
+    frame shaft): S, where NP, placed in step 3 and drawn again, crosses FG's plane.  The
+    camera's and the roller's tutorials say nothing "(by eye)" any more."""
     from h2s_print.templates import lookup
 
     eye = lookup("steps", "substep.carry_turn_eye")
     mark = eye[eye.index("{turns}") + len("{turns}"):eye.index(", then")]  # " (by eye)"
     patterns = []
     for key in ("carry_walk", "carry_walk_for", "extend_walk", "extend_walk_for",
-                "carry_from_walk", "carry_from_walk_for", "carry_from", "carry_from_for"):
+                "carry_from_walk", "carry_from_walk_for", "carry_from", "carry_from_for",
+                "extend_turn", "extend_turn_for", "extend_turn_to", "extend_turn_to_for"):
         text = lookup("steps", f"substep.{key}")
         rx = re.escape(text).replace(r"\{", "{").replace(r"\}", "}")
         two = r"(?:[A-Z]'*){2}"
@@ -4042,7 +4048,7 @@ def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
         patterns.append(re.compile(rx.format(
             lines=f"({two}(?:(?:, | and ){two})*)", vp=".+?", vp2=".+?", vp3=".+?",
             turns=f"({one}(?:(?:, | and ){one})*)", turns2=f"({one}(?:(?:, | and ){one})*)",
-            sides=".+?")))
+            sides=".+?", points=f"{one}(?:(?:, | and ){one})*")))
     found = 0
     for name, t, plan, vp in _all_views(examples):
         drawn: list[tuple] = []
@@ -4083,6 +4089,7 @@ def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
                 found += 1
             drawn += [(st.points3d[k], st.points3d[k + 1]) for st in s.strokes
                       for k in range(len(st.points3d) - 1)]
-        if name == "camera":
-            assert not any(mark in st.text for st in vp.steps), (vp.name, vp.level)
-    assert found >= 6  # the camera's flash (both views, novice and apprentice), the chimney
+        if name in ("camera", "roller"):
+            assert not any(mark in st.text for st in vp.steps), (name, vp.name, vp.level)
+    # the camera's flash (both views, novice and apprentice), the chimney, the frame shaft
+    assert found >= 10

@@ -248,6 +248,7 @@ class _Context(_Repeats, _Ellipses):
     _canon: dict[str, tuple[Vec3, Vec3]] = field(default_factory=dict)
     _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
     _box_steps: dict[str, int] = field(default_factory=dict)
+    _walked: bool = False  # the last drafts_of walked a carry (primitive_drafts)
     _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
     _hide_depth: float | None = None
     _reach: dict[tuple[str, bool], tuple[np.ndarray, np.ndarray, float]] = field(
@@ -1071,6 +1072,27 @@ class _Context(_Repeats, _Ellipses):
                          described: list[tuple[Vec3, Vec3, int]] | None = None,
                          drawn: Sequence[str] = (), repeat: Sequence[Spec] = (),
                          copies_of: Sequence[str] = ()) -> list[_Draft]:
+        """:meth:`drafts_of` the part, with carries that would turn by eye walked
+        (:meth:`walk_carries`) unless that makes a step too long for :data:`MAX_STEP_WORDS`
+        (a walk says more, and a guides step is not cut: the mixer's head, high-right, 73
+        words): then as before, the turns by eye."""
+        mark, boxes = len(described or ()), dict(self._box_steps)
+        self._walked = False
+        made = self.drafts_of(part, first, step, described, drawn, repeat, copies_of)
+        if self._walked and any(self.step_words(list(d.specs), d.headline) > MAX_STEP_WORDS
+                                for d in made if d.kind in ("guides", "primitive")):
+            if described is not None:
+                del described[mark:]
+            self._box_steps.clear()
+            self._box_steps.update(boxes)
+            made = self.drafts_of(part, first, step, described, drawn, repeat, copies_of,
+                                  walk=False)
+        return made
+
+    def drafts_of(self, part: str, first: bool, step: int = 0,
+                  described: list[tuple[Vec3, Vec3, int]] | None = None,
+                  drawn: Sequence[str] = (), repeat: Sequence[Spec] = (),
+                  copies_of: Sequence[str] = (), walk: bool = True) -> list[_Draft]:
         """The primitive step of ``part`` (step number ``step``), preceded by guides steps when
         its sub-steps would not fit :data:`MAX_STEP_WORDS` (module docstring, *Text*);
         ``repeat`` are the sub-steps drawing its copies ``copies_of`` (identical parts), said
@@ -1312,12 +1334,14 @@ class _Context(_Repeats, _Ellipses):
                     break
         # carries that would turn by eye, walked along lines drawn before instead
         # (geometry._walk_carry: the camera's flash)
-        walked = self.walk_carries(part, cand, built, {*crossings, *(meeting or ())[:2]},
-                                   drawn, floor_z, foot)
+        walked = (self.walk_carries(part, cand, built, {*crossings, *(meeting or ())[:2]},
+                                    drawn, floor_z, foot, earlier) if walk else {})
+        self._walked = bool(walked)
         seconds: dict[tuple[int, int | None], list[Pts]] = {}  # a walk's second turns
         lasts: dict[tuple[int, int | None], tuple[Vec3, Vec3]] = {}  # and its last leg
         walked_keys: set[tuple[int, int | None]] = set()
         walk_boxes: dict[tuple[int, int | None], list[str]] = {}  # boxes they turn on
+        walk_lines: dict[tuple[int, int | None], list[tuple[Vec3, Vec3, int]]] = {}  # lines
         crossed: list[tuple[Spec, list[_Line], Any]] = []  # (sentence, its lines, anchor)
         for k, (anchor, ppart, face, con, own, carry) in enumerate(built):
             unit = units.setdefault((anchor.parent, face.normal, face.end,
@@ -1384,11 +1408,14 @@ class _Context(_Repeats, _Ellipses):
             elif carry:
                 carried_anchors.append(anchor)
                 run_for.append((a, b, anchor))
-                carry_lines += carry
+                # (a walk's first leg along the line itself, to a turn on it, draws nothing)
+                new_legs = [c for c in carry if k not in walked or not (
+                    _on_segment(c.start, a, b, self.tol) and _on_segment(c.end, a, b, self.tol))]
+                carry_lines += new_legs
                 axes = [_moving_axis(c) for c in carry]
                 first = axes[0]
                 turn = next((x for x in axes[1:] if x != first), None)  # around a corner
-                by_group.setdefault((first, turn), ([], []))[0].extend(carry)
+                by_group.setdefault((first, turn), ([], []))[0].extend(new_legs)
                 by_group[first, turn][1].append(anchor)
                 runs = carried.setdefault((first, turn), [])
                 # the first leg, and the first line along the turn
@@ -1408,9 +1435,12 @@ class _Context(_Repeats, _Ellipses):
                         corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
                     if turn is not None and k in walked:  # it turns where drawn lines cross
                         walked_keys.add((first, turn))
-                        for other in walked[k]:
+                        for other in walked[k][0]:
                             if other not in walk_boxes.setdefault((first, turn), []):
                                 walk_boxes[first, turn].append(other)
+                        for old_line in walked[k][1]:
+                            if old_line not in walk_lines.setdefault((first, turn), []):
+                                walk_lines[first, turn].append(old_line)
                         if len(carry) > 2:
                             seconds.setdefault((first, turn), []).append(Pts((carry[1].end,)))
                             lasts[first, turn] = (carry[2].start, carry[2].end)
@@ -1609,6 +1639,10 @@ class _Context(_Repeats, _Ellipses):
                                             step=self._box_steps[other]))
                 said_by[i][0].extend(around)
                 carry_lines += around
+            for a, b, n in [x for key in keys for x in walk_lines.get(key, ())]:
+                sentences[i].insert(0, spec("reuse", line=Pts((a, b)), step=n))
+                said_by[i][0].append(_Line("guide", a, b))
+                carry_lines.append(_Line("guide", a, b))
         for i, keys in enumerate(pieces):
             for key in keys:
                 if key not in floor_legs or key in by_eye_turns:
@@ -2018,8 +2052,9 @@ class _Context(_Repeats, _Ellipses):
         return self._scaffolds[part]
 
     def walk_carries(self, part: str, cand: Any, built: list[Any], skip: set[int],
-                     drawn: Sequence[str], floor_z: float | None, foot: Vec3 | None
-                     ) -> dict[int, tuple[str, ...]]:
+                     drawn: Sequence[str], floor_z: float | None, foot: Vec3 | None,
+                     earlier: Sequence[tuple[Vec3, Vec3, int]] = ()
+                     ) -> dict[int, tuple[tuple[str, ...], tuple[tuple[Vec3, Vec3, int], ...]]]:
         """The carries of ``part``'s anchors (``built``, replaced in place) that would turn
         by eye, walked along lines drawn before instead (geometry._walk_carry).
 
@@ -2028,11 +2063,13 @@ class _Context(_Repeats, _Ellipses):
         that one sentence says together (the same directions) are walked together, all of
         them or none, and only where the walks share their directions and no other sentence
         already uses them.  The lines a walk may turn on: the edges of the parts drawn
-        before, this step's own constructions, and the boxes drawn around tapered parts in
-        earlier steps (said again where a walk turns on them).
-        Not ``skip``: carries made another way (a crossing, two carries meeting).  Returned:
-        each walked carry's index and the tapered parts whose boxes, drawn in an earlier
-        step, it turns on (its step draws them again)."""
+        before and this step's own constructions; else also the boxes drawn around tapered
+        parts in earlier steps; else also the lines earlier steps placed parts with
+        (``earlier``: ends and step), each said again where a walk turns on it ("Use NP
+        from step 3.": the roller's frame shaft, centred on the line that placed the
+        handle's top).  Not ``skip``: carries made another way (a crossing, two carries
+        meeting).  Returned: each walked carry's index, the tapered parts whose boxes it
+        turns on and the earlier lines it turns on (its step draws them again)."""
         tol = 10.0 * self.tol
 
         def key_of(carry: Sequence[_Line]) -> tuple[int, int | None]:
@@ -2077,13 +2114,18 @@ class _Context(_Repeats, _Ellipses):
         # step then draws them again ("Use the box around the prism from step 6")
         boxes = {other: [(ln.start, ln.end) for ln in self.box_around(other)]
                  for other in drawn if other in self._box_steps}
-        every = segments + [seg for lines in boxes.values() for seg in lines]
+        boxed = segments + [seg for lines in boxes.values() for seg in lines]
+        tiers = (segments, boxed, boxed + [(a, b) for a, b, _ in earlier])
         child = _drawn_box(self.plan.primitive(part), cand.box)
+        mids = sorted({a.axis for a in cand.anchors if a.end == "mid"})
         used = set(groups)
-        out: dict[int, tuple[str, ...]] = {}
+        out: dict[int, tuple[tuple[str, ...], tuple[tuple[Vec3, Vec3, int], ...]]] = {}
         for key in eyed:
-            walks = [_walk_carry(built[k][3], built[k][2], child, every, tol)
-                     for k in groups[key]]
+            for tier in tiers:  # the fewest lines said again
+                walks = [_walk_carry(built[k][3], built[k][2], child, tier, tol, mids)
+                         for k in groups[key]]
+                if all(w is not None for w in walks):
+                    break
             if any(w is None for w in walks):
                 continue
             # one sentence says them: the same directions, each extended along its own line
@@ -2100,10 +2142,14 @@ class _Context(_Repeats, _Ellipses):
             used.add(new)
             for k, w in zip(groups[key], walks):
                 built[k] = built[k][:5] + (list(w or ()),)
-                turns = [ln.end for ln in (w or ())[:-1]]
-                out[k] = tuple(other for other, lines in boxes.items() if any(
-                    not any(_on_segment(t, p, q, tol) for p, q in segments)
-                    and any(_on_segment(t, p, q, tol) for p, q in lines) for t in turns))
+                turns = [ln.end for ln in (w or ())[:-1]
+                         if not any(_on_segment(ln.end, p, q, tol) for p, q in segments)]
+                parts = tuple(other for other, lines in boxes.items()
+                              if any(_on_segment(t, p, q, tol) for p, q in lines for t in turns))
+                rest = [t for t in turns if not any(_on_segment(t, p, q, tol) for p, q in boxed)]
+                lines_ = tuple(next((a, b, n) for a, b, n in earlier
+                                    if _on_segment(t, a, b, tol)) for t in rest)
+                out[k] = (parts, tuple(dict.fromkeys(lines_)))
         return out
 
     def scaffold_ends(self, part: str) -> list[tuple[np.ndarray, np.ndarray]]:

@@ -531,7 +531,7 @@ WALK_LEGS = 2
 
 
 def _walk_carry(con: Any, face: Face, child: Box, segments: Sequence[tuple[Any, Any]],
-                tol: float) -> tuple[_Line, ...] | None:
+                tol: float, mids: Sequence[int] = ()) -> tuple[_Line, ...] | None:
     """A carry that turns only where a drawn line crosses its plane, for one that
     :func:`_carry_lines` would turn by eye (the camera's flash: "Carry MP and XY toward the
     left vanishing point to C and D (by eye), then vertically", C and D inside the body,
@@ -544,10 +544,14 @@ def _walk_carry(con: Any, face: Face, child: Box, segments: Sequence[tuple[Any, 
     end of the result line, legs along the plane's two other axes join such points, at most
     :data:`WALK_LEGS` of them (the flash: along the lens's top face to its back edge, then
     up the body's and the prism box's fronts to the box's top edge), until one lies on the
-    line of a side of the ``child``'s box in the plane; a last leg along that line crosses
-    the child's box (its edge on that face, to the far side).  The fewest legs, then the
+    line of a side of the ``child``'s box in the plane; a last leg along that line reaches
+    the child's box (its edge on that face) at its near side, as :func:`_carry_lines` ends
+    (from a point already beside the box, across it to its far side).  A middle of the child that an
+    anchor places (``mids``: the axes) counts as a side: a line across the child there (the
+    mixer's head, centred left to right: its front carried up its middle from the base's
+    centre line, nothing being drawn at the head's height).  The fewest legs, then the
     shortest, then the lowest coordinates.  None where no such walk exists (a part that
-    floats: nothing drawn touches its faces)."""
+    floats: nothing drawn reaches its planes)."""
     a, n = con.axis, face.normal
     o = 3 - a - n
     x = con.coord
@@ -563,17 +567,20 @@ def _walk_carry(con: Any, face: Face, child: Box, segments: Sequence[tuple[Any, 
     res = con.result
     starts = sorted({(float(e[n]), float(e[o])) for e in (res.start, res.end)})
     sides = ((0, float(child[0][n]), float(child[1][n])), (1, float(child[0][o]), float(child[1][o])))
+    lines = [(k, (lo, hi) + ((0.5 * (lo + hi),) if (n, o)[k] in mids else ()))
+             for k, lo, hi in sides]
 
     def last_leg(v: tuple[float, float]) -> tuple[float, float] | None:
         """The last leg from ``v`` along a side line of the child through ``v``, else None."""
-        for k, lo, hi in sides:  # k: which coordinate the side fixes (0: n, 1: o)
-            if abs(v[k] - lo) <= tol or abs(v[k] - hi) <= tol:
-                j = 1 - k  # the leg runs along the other, to the child's far side
-                lo2, hi2 = sides[j][1], sides[j][2]
-                far = hi2 if abs(hi2 - v[j]) >= abs(lo2 - v[j]) else lo2
+        for k, at in lines:  # k: which coordinate the line fixes (0: n, 1: o)
+            if any(abs(v[k] - c) <= tol for c in at):
+                j = 1 - k  # the leg runs along the other to the child's near side, as any
+                lo2, hi2 = sides[j][1], sides[j][2]  # carry does (its far one from inside)
+                to = (lo2 if v[j] < lo2 - tol else hi2 if v[j] > hi2 + tol
+                      else hi2 if abs(hi2 - v[j]) >= abs(lo2 - v[j]) else lo2)
                 w = list(v)
-                w[j] = far
-                if abs(far - v[j]) > tol:
+                w[j] = to
+                if abs(to - v[j]) > tol:
                     return (w[0], w[1])
         return None
 
