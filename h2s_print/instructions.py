@@ -165,8 +165,10 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
     before, and that name no other point on a page the step cites ("Use KL from step 8":
     the reader turns back to step 8, where E and H must not name other points than on
     this page); when every plain letter is living or resting, the first primed letter free
-    (``A'``): a letter the page just turned used for another point misleads more than a
-    prime (the train's chimney guides: E and H named other points on consecutive pages).
+    (``A'``) whose plain letter neither this page nor the one before shows, where there is
+    one (a read-through took Q' beside Q for an image of Q): a letter the page just turned
+    used for another point misleads more than a prime (the train's chimney guides: E and H
+    named other points on consecutive pages).
 
     Args:
         steps: each step's sub-steps, in order.
@@ -270,16 +272,26 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             # this step cites
             busy = {x for end, x in held if end >= k - REST} | cited
             free = [x for x in ALPHABET if x not in busy]
+            # not the plain twin of a primed letter this page shows (Q beside Q')
+            twins = {letter[j][0] for j in named[k] if j in letter and len(letter[j]) > 1}
+            free = [x for x in free if x not in twins] or free
             if free:  # the letter free longest: one never used first, in alphabetical order
                 # (free is in alphabetical order, min keeps the first of equals, and a used
                 # letter ended at a step >= 0)
                 letter[i] = next((x for x in free if x not in ended), None) or min(
                     free, key=ended.__getitem__)
-            else:
+            else:  # primed: one whose plain letter this page and the one before do not
+                # show, where one is free (read-throughs took Q' beside Q for an image of Q)
+                shown = {letter[j][0] for c in (k - 1, k) if c >= 0 for j in named[c]
+                         if j in letter}
                 n = len(ALPHABET)
-                while _letter(n) in busy:
-                    n += 1
-                letter[i] = _letter(n)
+                primed = [x for x in map(_letter, range(n, 4 * n)) if x not in busy]
+                pick = next((x for x in primed if x[0] not in shown), None)
+                if pick is None:
+                    while _letter(n) in busy:
+                        n += 1
+                    pick = _letter(n)
+                letter[i] = pick
             held.append((last[i], letter[i]))
             ended[letter[i]] = last[i]
 

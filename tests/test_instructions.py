@@ -187,6 +187,28 @@ def test_a_primed_letter_comes_before_one_the_page_just_turned_used():
                                                                     "E'", "F'"]
 
 
+def test_a_primed_letter_is_not_the_twin_of_a_letter_on_its_page():
+    """A read-through took Q' beside Q, in one picture, for an image of Q: where every plain
+    letter is taken, the primed letter given is one whose plain letter the page does not
+    show (the page before neither), where there is one; and a plain letter given is not the
+    twin of a primed one the page shows."""
+    p = [(float(i), 0.0, 0.0) for i in range(60)]
+    first = [spec("f", lines=Many(tuple(Pts((p[i],)) for i in range(24))))]  # A .. Z
+    alive = [(p[i], 2) for i in range(24)]  # their lines stay on the paper to page three
+    third = [spec("g", lines=Many((Pts((p[0],)), Pts((p[30],)))))]  # A again, a new point
+    out = letter_steps([first, [], third], 1e-9, _render, " ".join, on_paper=alive)
+    old, new = out[2][0][0].split("=")[1].split()
+    assert old == "A" and new.endswith("'") and new[0] != "A"
+    # a point primed on page two, named again on page three beside a new one: plain, not
+    # its twin (page one's letters have rested by then)
+    second = [spec("g", lines=Many((Pts((p[30],)),)))]
+    fourth = [spec("h", lines=Many((Pts((p[30],)), Pts((p[31],)))))]
+    out = letter_steps([first, second, [], fourth], 1e-9, _render, " ".join,
+                       on_paper=[(p[i], 1) for i in range(24)])
+    primed, plain = out[3][0][0].split("=")[1].split()
+    assert primed.endswith("'") and not plain.endswith("'") and plain != primed[0]
+
+
 def test_points_within_tolerance_share_a_letter():
     out = letter_steps([[spec("a", line=Pts(((0, 0, 0), (1e-12, 0, 0))))]], 1e-9, _render)
     assert out[0][0] == ["a:line=AA"]
