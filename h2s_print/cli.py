@@ -15,6 +15,7 @@ errors only, ``-v`` adds debug messages and every progress step.
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import logging
 import os
@@ -32,6 +33,18 @@ log = logging.getLogger("h2s_print")
 CONFIG_SUFFIXES = (".yaml", ".yml")
 #: Exit statuses.
 EXIT_OK, EXIT_BUG, EXIT_USER, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+#: Commands run with Python's cyclic garbage collector off (on again after, if it was on).
+#: The pipeline's objects live to the end of the run and make next to no reference cycles
+#: (reference counting frees the rest at once), so the collector's passes, which walk every
+#: object tracked (NumPy's and SciPy's modules, the plan's boxes and strokes) over and over,
+#: free nothing.  Measured (2 cores, 2026-11-29): ``h2s plan`` of the camera spent 0.05 s in
+#: them, the roller 0.08 s, the train 0.14 s, a generated 80-part model 1.9 s of 15.6 s; the
+#: example book's build 0.4 s of 7.4 s.  Peak memory with it off: roller 124 -> 125 MB, the
+#: 80 parts 325 -> 331 MB, the book 218 -> 223 MB.  ``study``, ``score`` and ``rank`` (scans,
+#: images) keep it.
+NO_GC_COMMANDS = frozenset(("plan", "build"))
 
 
 class _UsageError(Exception):
@@ -191,6 +204,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     root.addHandler(console)
     old_level = log.level
     log.setLevel(level)
+    collecting = gc.isenabled()
+    if args.command in NO_GC_COMMANDS:
+        gc.disable()
     try:
         if args.command == "inspect":
             return _inspect(args)
@@ -225,6 +241,8 @@ def main(argv: Sequence[str] | None = None) -> int:
               f"the traceback above): {type(exc).__name__}: {_one_line(exc)}", file=stderr)
         return EXIT_BUG
     finally:
+        if collecting:
+            gc.enable()
         console.clear()
         root.removeHandler(console)
         log.setLevel(old_level)

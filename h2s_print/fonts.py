@@ -24,6 +24,7 @@ import functools
 import hashlib
 import importlib.util
 import itertools
+import struct
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -181,11 +182,96 @@ def missing(text: str, spec: FontSpec | None = None) -> str | None:
 @functools.lru_cache(maxsize=32)
 def coverage(spec: FontSpec) -> frozenset[int]:
     """The code points every face of ``spec`` draws."""
-    faces = [face(spec.path(style)) for style in STYLES]
-    have = set(faces[0].widths)
-    for f in faces[1:]:
-        have &= set(f.widths)
-    return frozenset(have)
+    return frozenset.intersection(*(code_points(spec.path(style)) for style in STYLES))
+
+
+@functools.lru_cache(maxsize=32)
+def code_points(path: Path) -> frozenset[int]:
+    """The code points the font file at ``path`` draws: the keys of its :func:`face`'s
+    ``widths``, read from its ``cmap`` and ``maxp`` tables alone (:func:`_cmap_points`) when
+    it is a plain TrueType file with a cmap subtable of format 4, 12 or 13, else from
+    :func:`face`.
+
+    Why: ``h2s plan`` checks the wording's characters against the font (``templates.
+    check_font``) but never measures text, and loading the three DejaVu faces with ReportLab
+    (every table, every glyph's width) and importing it took some 0.05 s of a 1.2 s plan.  A
+    file :func:`face` refuses never gets here with a set of its own: a config's ``font:`` is
+    loaded by :func:`face` when the config is read, the default is matplotlib's DejaVu Sans.
+    tests/test_fonts.py compares the two on every font matplotlib ships.
+    """
+    try:
+        points = _cmap_points(path.read_bytes())
+    except (OSError, struct.error, ValueError, IndexError):
+        points = None
+    return points if points is not None else frozenset(face(path).widths)
+
+
+def _cmap_points(data: bytes) -> frozenset[int] | None:
+    """The code points ReportLab's ``TTFontFile.extractInfo`` gives a width, from the file's
+    bytes: the cmap subtable it picks (the last record for platform 3, for platform 0 but
+    encoding 5, for Macintosh Roman; Macintosh 0 only before any other), every code point
+    mapped to a glyph below ``maxp``'s count (glyph 0 included, as there), and U+00A0 with
+    U+0020 (each stands for the other).  None for a file or subtable it does not read
+    (a collection, PostScript outlines, cmap formats other than 4, 12 and 13)."""
+    u16, u32 = struct.Struct(">H"), struct.Struct(">L")
+    if u32.unpack_from(data, 0)[0] not in (0x00010000, 0x74727565):
+        return None
+    tables = {}
+    for i in range(u16.unpack_from(data, 4)[0]):
+        tag, _, offset, _ = struct.unpack_from(">4sLLL", data, 12 + 16 * i)
+        tables[tag] = offset
+    if b"cmap" not in tables or b"maxp" not in tables:
+        return None
+    n_glyphs = u16.unpack_from(data, tables[b"maxp"] + 4)[0]
+    cmap = tables[b"cmap"]
+    version, count = u16.unpack_from(data, cmap)[0], u16.unpack_from(data, cmap + 2)[0]
+    if count == 0 and version != 0:
+        count = version
+    chosen, enc = None, 0
+    for i in range(count):
+        platform, encoding, offset = struct.unpack_from(">HHL", data, cmap + 4 + 8 * i)
+        if platform == 3 or (platform == 1 and encoding == 1) or (platform == 0
+                                                                  and encoding != 5):
+            chosen, enc = offset, 1
+        elif platform == 1 and encoding == 0 and enc != 1:
+            chosen, enc = offset, 2
+    if chosen is None:
+        return None
+    at = cmap + chosen
+    fmt = u16.unpack_from(data, at)[0]
+    points: set[int] = set()
+    if fmt in (12, 13):
+        for k in range(u32.unpack_from(data, at + 12)[0]):
+            start, end, glyph = struct.unpack_from(">LLL", data, at + 16 + 12 * k)
+            if fmt == 13:  # every code point of the group maps to one glyph
+                if glyph < n_glyphs:
+                    points.update(range(start, end + 1))
+            else:  # consecutive glyphs from ``glyph``: those below the count
+                points.update(range(start, min(end, start + n_glyphs - 1 - glyph) + 1))
+    elif fmt == 4:
+        limit = at + u16.unpack_from(data, at + 2)[0]
+        segs = u16.unpack_from(data, at + 6)[0] // 2
+        ends = struct.unpack_from(f">{segs}H", data, at + 14)
+        starts = struct.unpack_from(f">{segs}H", data, at + 16 + 2 * segs)
+        deltas = struct.unpack_from(f">{segs}h", data, at + 16 + 4 * segs)
+        range_at = at + 16 + 6 * segs
+        ranges = struct.unpack_from(f">{segs}H", data, range_at)
+        for n, (start, end, delta, ro) in enumerate(zip(starts, ends, deltas, ranges)):
+            for ch in range(start, end + 1):
+                if ro == 0:
+                    glyph = (ch + delta) & 0xFFFF
+                else:
+                    offset = range_at + 2 * n + (ch - start) * 2 + ro
+                    glyph = 0 if offset >= limit else u16.unpack_from(data, offset)[0]
+                    if glyph != 0:
+                        glyph = (glyph + delta) & 0xFFFF
+                if glyph < n_glyphs:
+                    points.add(ch)
+    else:
+        return None
+    if 0x20 in points or 0xA0 in points:
+        points |= {0x20, 0xA0}
+    return frozenset(points)
 
 
 @functools.lru_cache(maxsize=32)

@@ -330,7 +330,42 @@ def _scene_meshes(path: Path, where: str, split: bool
         scene extras (or, when the scene has none, of its meshes' extras).
 
     Everything trimesh may raise while reading is turned into a :class:`ModelError` here.
+    A plain GLB (:func:`_plain_glb`) is read without trimesh, to the same arrays.
     """
+    gltf = path.suffix.lower() in _GLTF
+    read = _plain_glb(path) if path.suffix.lower() == ".glb" else None
+    groups, labels, scene_units = read if read is not None else _trimesh_groups(path, where,
+                                                                                split)
+    if not groups:
+        raise ModelError(f"{where}: no triangle mesh with faces in the file")
+    out = []
+    mesh_units: set[str] = set()
+    for key in sorted(groups):
+        name = labels[key]
+        pieces = []
+        for geom_name, vertices, faces, matrix, meta in sorted(groups[key], key=lambda g: g[0]):
+            if faces.min() < 0 or faces.max() >= len(vertices):
+                raise ModelError(f"{where}: mesh {geom_name!r}: face index out of range")
+            if np.linalg.det(matrix[:3, :3]) < 0:
+                faces = faces[:, ::-1]  # a mirroring transform turns the winding inside out
+            pieces.append((vertices @ matrix[:3, :3].T + matrix[:3, 3], faces))
+            if isinstance(meta, dict) and meta.get("units") is not None:
+                mesh_units.add(str(meta["units"]))
+        world, faces = _concat(pieces)
+        source = path.name if name == path.stem and not gltf else f"{path.name}:{name}"
+        out.append((name, world, faces, source))
+    return out, sorted(scene_units or mesh_units)
+
+
+#: What :func:`_trimesh_groups` and :func:`_plain_glb` read: per part key (glTF: node index
+#: and name), its meshes as ``(geometry name, vertices, faces, world matrix, metadata)``; the
+#: key's raw part name; the units the scene's extras state (a set of at most one).
+_Groups = tuple[dict[Any, list[tuple[str, np.ndarray, np.ndarray, np.ndarray, Any]]],
+                dict[Any, str], set[str]]
+
+
+def _trimesh_groups(path: Path, where: str, split: bool) -> _Groups:
+    """A model file's meshes as trimesh reads them (see :data:`_Groups`)."""
     import trimesh  # the loader's heavy dependency, kept to this module
 
     ext = path.suffix.lower()
@@ -373,27 +408,110 @@ def _scene_meshes(path: Path, where: str, split: bool
         raise
     except Exception as exc:  # noqa: BLE001 - the IO edge: any parser failure is the file's
         raise ModelError(f"{where}: cannot read: {_short(exc)}") from None
-    if not groups:
-        raise ModelError(f"{where}: no triangle mesh with faces in the file")
-    out = []
-    mesh_units: set[str] = set()
-    for key in sorted(groups):
-        name = labels[key]
-        pieces = []
-        for geom_name, vertices, faces, matrix, meta in sorted(groups[key], key=lambda g: g[0]):
-            if faces.min() < 0 or faces.max() >= len(vertices):
-                raise ModelError(f"{where}: mesh {geom_name!r}: face index out of range")
-            if np.linalg.det(matrix[:3, :3]) < 0:
-                faces = faces[:, ::-1]  # a mirroring transform turns the winding inside out
-            pieces.append((vertices @ matrix[:3, :3].T + matrix[:3, 3], faces))
-            if isinstance(meta, dict) and meta.get("units") is not None:
-                mesh_units.add(str(meta["units"]))
-        world, faces = _concat(pieces)
-        source = path.name if name == path.stem and not gltf else f"{path.name}:{name}"
-        out.append((name, world, faces, source))
     scene_units = ({str(scene_meta["units"])} if isinstance(scene_meta, dict)
                    and scene_meta.get("units") is not None else set())
-    return out, sorted(scene_units or mesh_units)
+    return groups, labels, scene_units
+
+
+#: glTF index component types a plain GLB may use (unsigned 8, 16, 32 bits), as numpy types.
+_GLB_INDICES = {5121: "<u1", 5123: "<u2", 5125: "<u4"}
+#: The keys a plain GLB's parts may have (anything else: trimesh reads the file).
+_GLB_NODE_KEYS = frozenset(("name", "mesh", "matrix"))
+_GLB_MESH_KEYS = frozenset(("name", "primitives", "extras"))
+_GLB_PRIMITIVE_KEYS = frozenset(("attributes", "indices", "mode"))
+_GLB_ACCESSOR_KEYS = frozenset(("bufferView", "byteOffset", "componentType", "count", "type",
+                                "min", "max", "name"))
+
+
+def _plain_glb(path: Path) -> _Groups | None:
+    """The meshes of a *plain* GLB, read without trimesh to exactly what
+    :func:`_trimesh_groups` makes of it, or None for any other file (trimesh reads it, and says
+    what is wrong with a broken one).
+
+    Plain: glTF 2 with one binary chunk, the one buffer, no extensions; the scene's root nodes
+    (``scene``'s, else the first) each a mesh without children or camera, placed by a
+    ``matrix`` or by nothing; each of their meshes one primitive of triangles (mode 4), its
+    positions float32 triples and its indices unsigned integers, all in range, both packed
+    (no stride, no sparse accessor), and no other attribute or material.  The example models,
+    the generated ones and the benchmark's IKEA models are plain.  Read as trimesh reads them:
+    float32 positions as float64, indices as int64, the node's matrix transposed (glTF
+    stores columns), the identity without one; units ``meters`` but for the mesh's extras,
+    the scene's extras' units only when the file names its ``scene``.
+
+    Why: importing trimesh (which brings scipy.ndimage along for its voxels) took 0.09 s of a
+    1.1 s ``h2s plan`` of the camera; such a file is a few array views.
+    tests/test_load.py compares the two readers on every model at hand and on made files.
+    """
+    try:
+        data = path.read_bytes()
+        if len(data) < 28 or data[:4] != b"glTF":
+            return None
+        version, _, n_json, kind = struct.unpack_from("<II I4s", data, 4)
+        at = 20 + n_json
+        if version != 2 or kind != b"JSON" or len(data) < at + 8:
+            return None
+        header = json.loads(data[20:at].decode("utf-8"))
+        n_bin, kind = struct.unpack_from("<I4s", data, at)
+        if kind != b"BIN\x00" or at + 8 + n_bin != len(data):
+            return None
+        blob = memoryview(data)[at + 8:]
+        buffers = header.get("buffers", [])
+        if (not isinstance(header, dict) or "extensions" in header
+                or header.get("extensionsUsed") or header.get("extensionsRequired")
+                or len(buffers) != 1 or "uri" in buffers[0]):
+            return None
+        scene = header.get("scene", 0)
+        roots = header["scenes"][scene].get("nodes", [])
+        if len(set(roots)) != len(roots):
+            return None
+        nodes, meshes = header.get("nodes", []), header.get("meshes", [])
+        accessors, views = header.get("accessors", []), header.get("bufferViews", [])
+
+        def array(index: int, kinds: dict[int, str], shape: str, width: int) -> np.ndarray:
+            a = accessors[index]
+            view = views[a["bufferView"]]
+            if (a.keys() - _GLB_ACCESSOR_KEYS or a["componentType"] not in kinds
+                    or a["type"] != shape or "byteStride" in view or view["buffer"] != 0):
+                raise ValueError("not plain")
+            dtype = np.dtype(kinds[a["componentType"]])
+            start, length = view.get("byteOffset", 0), view["byteLength"]
+            offset, size = a.get("byteOffset", 0), a["count"] * width * dtype.itemsize
+            if start + length > n_bin or offset + size > length:
+                raise ValueError("out of the buffer")
+            return np.frombuffer(blob[start + offset:start + offset + size], dtype=dtype)
+
+        groups: dict[Any, list[tuple[str, np.ndarray, np.ndarray, np.ndarray, Any]]] = {}
+        labels: dict[Any, str] = {}
+        for i in roots:
+            node = nodes[i]
+            if node.keys() - _GLB_NODE_KEYS or "mesh" not in node:
+                return None
+            mesh = meshes[node["mesh"]]
+            (prim,) = mesh["primitives"]
+            if (mesh.keys() - _GLB_MESH_KEYS or prim.keys() - _GLB_PRIMITIVE_KEYS
+                    or prim.get("mode", 4) != 4 or prim["attributes"].keys() != {"POSITION"}):
+                return None
+            vertices = array(prim["attributes"]["POSITION"], {5126: "<f4"}, "VEC3", 3)
+            faces = array(prim["indices"], _GLB_INDICES, "SCALAR", 1)
+            if len(faces) == 0 or len(faces) % 3 or int(faces.max()) >= len(vertices) // 3:
+                return None
+            matrix = (np.array(node["matrix"], dtype=np.float64).reshape((4, 4)).T
+                      if "matrix" in node else np.eye(4))
+            meta: dict[str, Any] = {"units": "meters"}
+            if isinstance(mesh.get("extras"), dict):
+                meta.update(mesh["extras"])
+            own = node.get("name") or mesh.get("name") or f"node{i}"
+            groups[(i, own)] = [(str(mesh.get("name", "GLTF")),
+                                 vertices.reshape(-1, 3).astype(np.float64),
+                                 faces.reshape(-1, 3).astype(np.int64), matrix, meta)]
+            labels[(i, own)] = own
+        extras = (header["scenes"][header["scene"]].get("extras") if "scene" in header
+                  else None)
+        units = extras.get("units") if isinstance(extras, dict) else None
+        return groups, labels, (set() if units is None else {str(units)})
+    except (ValueError, KeyError, IndexError, TypeError, AttributeError, struct.error,
+            UnicodeDecodeError):
+        return None
 
 
 def _gltf_header(path: Path) -> dict[str, Any]:

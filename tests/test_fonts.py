@@ -89,6 +89,24 @@ def test_a_width_is_the_sum_of_its_advances_in_order_exactly():
     assert fonts._em_width.__wrapped__(spec, "Helvetica", text) == want
 
 
+def test_code_points_read_from_the_cmap_are_reportlabs(tmp_path):
+    """The cmap reader (fonts._cmap_points, what ``h2s plan`` checks the wording with) gives
+    exactly the code points ReportLab's loaded face has widths for, on every font matplotlib
+    ships (cmap formats 4, 12 and 13, Macintosh and Windows records, maxp limits) and the box
+    font built here; a font it does not read still gets ReportLab's set."""
+    folder = fonts.default_spec().regular.parent
+    files = sorted(folder.glob("*.ttf")) + [_box_font(tmp_path / "box.ttf", extra="相机")]
+    assert len(files) > 30
+    for path in files:
+        fast = fonts._cmap_points(path.read_bytes())
+        assert fast is not None, path.name
+        assert fast == frozenset(fonts.face(path).widths), path.name
+    assert fonts._cmap_points(b"OTTO" + bytes(64)) is None  # PostScript outlines: ReportLab's
+    spec = fonts.default_spec()
+    assert fonts.coverage(spec) == frozenset.intersection(
+        *(frozenset(fonts.face(spec.path(s)).widths) for s in fonts.STYLES))
+
+
 def test_specs_that_differ_only_in_paths_stay_apart():
     """A spec hashes by its name alone: equal specs hash alike, and specs of one name but
     other files are still different keys."""

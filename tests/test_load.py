@@ -139,6 +139,78 @@ def test_glb_names_made_safe_and_unique(tmp_path):
     assert any("renamed 3 parts" in n for n in model.notes)
 
 
+def _mirror_rot() -> list[float]:
+    # column-major: mirror x, rotate 30 deg about Z, translate (1.5, -2, 0.25)
+    c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
+    m = np.array([[-c, -s, 0, 1.5], [-s, c, 0, -2], [0, 0, 1, 0.25], [0, 0, 0, 1]], float)
+    return m.T.reshape(-1).tolist()
+
+
+def _same_groups(a, b) -> None:
+    """Two readers' groups (load._Groups) alike bit for bit: keys, names, every array's
+    dtype and bytes (zeros' signs included), the mesh units, the scene units."""
+    (ga, la, ua), (gb, lb, ub) = a, b
+    assert sorted(ga) == sorted(gb) and la == lb and ua == ub  # (the caller sorts them)
+    for key in ga:
+        assert len(ga[key]) == len(gb[key]) == 1
+        (_, va, fa, ma, meta_a), (_, vb, fb, mb, meta_b) = ga[key][0], gb[key][0]
+        for x, y in ((va, vb), (fa, fb), (ma, mb)):
+            assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes()
+        assert meta_a.get("units") == meta_b.get("units")
+
+
+def test_plain_glb_reader_is_trimeshs(tmp_path):
+    """The GLB reader without trimesh (load._plain_glb) makes what trimesh makes of a plain
+    file: the example models, the generated and benchmark models when present, and files
+    made here (unnamed and clashing nodes, instancing, a mirroring matrix, units in mesh and
+    scene extras); the whole model loads the same either way.  Any other file is left to
+    trimesh (None): children, translations, several primitives."""
+    from h2s_print import load as L
+    from conftest import CONFIGS, SHARED_MODELS
+
+    cube, body = ("cube", CUBE_V, CUBE_F), ("body", *box((0, 0, 0), (4, 1, 2.5)))
+    made = [
+        write_glb(tmp_path / "a.glb", [cube, body], [
+            {"name": "body", "mesh": 1}, {"name": "wheel", "mesh": 0},
+            {"name": "wheel", "mesh": 0, "matrix": _rot_z90()}, {"mesh": 0},
+            {"name": "", "mesh": 1, "matrix": _mirror_rot()}, {"name": "world", "mesh": 0}]),
+        write_glb(tmp_path / "b.glb", [(None, CUBE_V * 0.1, CUBE_F)], [{"mesh": 0}],
+                  scene_extras={"units": "cm"}),
+        write_glb(tmp_path / "c.glb", [cube, body], [{"name": "a", "mesh": 0},
+                                                     {"name": "b", "mesh": 1}],
+                  mesh_extras=[{"units": "millimeters"}, None]),
+    ]
+    found = sorted(CONFIGS.glob("models/*.glb")) + sorted(SHARED_MODELS.glob("*/*.glb"))
+    assert len(found) >= 4
+    plain = 0
+    for path in made + found:
+        fast = L._plain_glb(path)
+        if fast is None:
+            assert path.parent != CONFIGS / "models", path  # the examples are plain
+            continue
+        plain += 1
+        _same_groups(fast, L._trimesh_groups(path, path.name, split=True))
+    assert plain >= len(made) + 4
+    # the whole load: the same parts with trimesh alone
+    for path in made[:1] + found[:4]:
+        with_fast = read_path(path)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(L, "_plain_glb", lambda p: None)
+            slow = read_path(path)
+        assert [p.name for p in with_fast.parts] == [p.name for p in slow.parts]
+        assert with_fast.units == slow.units and with_fast.notes == slow.notes
+        for p, q in zip(with_fast.parts, slow.parts):
+            assert p.vertices.tobytes() == q.vertices.tobytes()
+            assert p.faces.tobytes() == q.faces.tobytes() and p.sources == q.sources
+    # not plain: trimesh reads them
+    two = ("m", [CUBE_V, CUBE_V + 3], [CUBE_F, CUBE_F])
+    for name, meshes, nodes in (
+            ("kids.glb", [cube], [{"name": "p", "children": [1]}, {"name": "c", "mesh": 0}]),
+            ("trs.glb", [cube], [{"name": "t", "mesh": 0, "translation": [1, 0, 0]}]),
+            ("prims.glb", [two], [{"name": "x", "mesh": 0}])):
+        assert L._plain_glb(write_glb(tmp_path / name, meshes, nodes)) is None
+
+
 def test_safe_name():
     assert safe_name("dowel#1:9:6") == "dowel_1_9_6"
     assert safe_name("_hidden part") == "hidden_part"
