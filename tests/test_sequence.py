@@ -4052,8 +4052,11 @@ def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
     found = 0
     for name, t, plan, vp in _all_views(examples):
         drawn: list[tuple] = []
+        ever: dict[str, tuple] = {}
         for s in vp.steps:
-            segs = drawn + [(g.from3d, g.to3d) for g in s.guides]
+            for g in s.guides:  # every guide on the paper at this step, by id
+                ever.setdefault(g.id, (g.from3d, g.to3d))
+            segs = drawn + [ever[g] for g in s.alive if g in ever]
             at = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels if lb.kind == "point"}
             box = np.asarray(plan.chosen()[s.part].box, float) if s.part else None
             for x in s.substeps:
@@ -4078,7 +4081,13 @@ def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
                         assert int((np.abs(v - u) > tol).sum()) <= 1, (name, vp.name, x)
                     if " from " in x.split(" toward ")[0].split(" away ")[0]:
                         assert _on_segment(T1, P, Q, tol), (name, vp.name, x)  # on the line
+                    # ("Carry B'C' from B' ...": from an end of the line, the end it leaves
+                    # from, said since it is not the one nearer the part; not a turn)
+                    ends = [v for v in turns if min(np.abs(v - P).max(), np.abs(v - Q).max())
+                            <= tol]
                     for turn in turns:
+                        if any(turn is v for v in ends):
+                            continue
                         assert any(
                             abs(s1[a] - s0[a]) > tol and all(
                                 abs(s0[b] - s1[b]) <= tol for b in range(3) if b != a)
@@ -4093,3 +4102,39 @@ def test_a_carry_that_would_turn_by_eye_walks_over_drawn_edges(examples):
             assert not any(mark in st.text for st in vp.steps), (name, vp.name, vp.level)
     # the camera's flash (both views, novice and apprentice), the chimney, the frame shaft
     assert found >= 10
+
+
+def test_no_two_carries_of_a_step_draw_one_line(examples, shared_models):
+    """Two carry sentences of one step never draw the same line (the chair's seat: "Carry FG
+    away from the left vanishing point to H, for its middle" then "Carry AB from F away from
+    the left vanishing point, for its bottom", along FH again; the train's chimney, "Carry XY
+    from A away from the vanishing point below" then "Carry ZE and LM from B and A away from
+    the vanishing point below": the line up from A twice).  A walked carry whose lines
+    another carry draws is said with that carry instead.  Checked on the sentences: a point
+    a carry starts "from" is named so once in the step, and is no end of a line another
+    carry of the step carries the same way."""
+    from_at = re.compile(r"^Carry (.+?) from ((?:[A-Z]'*)(?:(?:, | and )[A-Z]'*)*) (.+?)(?:,|\.| to )")
+    plain = re.compile(r"^Carry ((?:[A-Z]'*){2}(?:(?:, | and )(?:[A-Z]'*){2})*) "
+                       r"((?:toward|away from|vertically).*?)(?:,|\.| to )")
+    cases = _novice_cases(examples, ("chair_ingolf", "desk_fredrik", "table_lack"))
+    checked = 0
+    for name, t, plan, _, vp in cases:
+        for s in vp.steps:
+            starts: list[str] = []
+            ways: list[tuple[set[str], str]] = []  # (letters of lines carried, direction)
+            for x in s.substeps:
+                body = x.split(". ", 1)[-1] if re.match(r"\d+\. ", x) else x
+                m = from_at.match(body)
+                if m:
+                    starts += [(p, m.group(3)) for p in re.findall(r"[A-Z]'*", m.group(2))]
+                    continue
+                m = plain.match(body)
+                if m:
+                    ways.append((set(re.findall(r"[A-Z]'*", m.group(1))), m.group(2)))
+            points = [p for p, _ in starts]
+            assert len(points) == len(set(points)), (name, vp.name, s.index, s.text)
+            for p, way in starts:
+                assert not any(p in letters and w == way for letters, w in ways), (
+                    name, vp.name, s.index, s.text)
+                checked += 1
+    assert checked

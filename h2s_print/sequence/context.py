@@ -249,6 +249,8 @@ class _Context(_Repeats, _Ellipses):
     _finals: dict[str, dict[str, tuple[Stroke, ...]]] = field(default_factory=dict)
     _box_steps: dict[str, int] = field(default_factory=dict)
     _walked: bool = False  # the last drafts_of walked a carry (primitive_drafts)
+    _merged: dict[int, int] = field(default_factory=dict)  # walk_carries: said with another
+    _far: set[int] = field(default_factory=set)  # walk_carries: from the line's farther end
     _solids: dict[str, list[tuple[str, Solid]]] = field(default_factory=dict)
     _hide_depth: float | None = None
     _reach: dict[tuple[str, bool], tuple[np.ndarray, np.ndarray, float]] = field(
@@ -1334,12 +1336,14 @@ class _Context(_Repeats, _Ellipses):
                     break
         # carries that would turn by eye, walked along lines drawn before instead
         # (geometry._walk_carry: the camera's flash)
+        self._merged, self._far = {}, set()
         walked = (self.walk_carries(part, cand, built, {*crossings, *(meeting or ())[:2]},
                                     drawn, floor_z, foot, earlier) if walk else {})
-        self._walked = bool(walked)
+        self._walked = bool(walked or self._merged)
         seconds: dict[tuple[int, int | None], list[Pts]] = {}  # a walk's second turns
         lasts: dict[tuple[int, int | None], tuple[Vec3, Vec3]] = {}  # and its last leg
         walked_keys: set[tuple[int, int | None]] = set()
+        starts: dict[tuple[int, int | None], list[Pts]] = {}  # walks from the farther end
         walk_boxes: dict[tuple[int, int | None], list[str]] = {}  # boxes they turn on
         walk_lines: dict[tuple[int, int | None], list[tuple[Vec3, Vec3, int]]] = {}  # lines
         crossed: list[tuple[Spec, list[_Line], Any]] = []  # (sentence, its lines, anchor)
@@ -1405,6 +1409,10 @@ class _Context(_Repeats, _Ellipses):
                     vp=words.vp(face.normal, x.at, x.end), other2=Pts(x.leg),
                     point2=Pts((x.end,)), sides=self.anchor_side(anchor)),
                     list(x.lines), anchor))
+            elif carry and k in self._merged:  # said with another carry's line (walk_carries)
+                carried_anchors.append(anchor)
+                other = built[self._merged[k]][3].result
+                run_for.append((other.start, other.end, anchor))
             elif carry:
                 carried_anchors.append(anchor)
                 run_for.append((a, b, anchor))
@@ -1435,6 +1443,8 @@ class _Context(_Repeats, _Ellipses):
                         corners.setdefault((first, turn), []).append(Pts((carry[0].end,)))
                     if turn is not None and k in walked:  # it turns where drawn lines cross
                         walked_keys.add((first, turn))
+                        if k in self._far:
+                            starts.setdefault((first, turn), []).append(Pts((carry[0].start,)))
                         for other in walked[k][0]:
                             if other not in walk_boxes.setdefault((first, turn), []):
                                 walk_boxes[first, turn].append(other)
@@ -1598,6 +1608,14 @@ class _Context(_Repeats, _Ellipses):
                               for r, c in zip(runs, corners[axis, turn])]
                         key = (("carry_from_walk" if key == "carry_walk" else "carry_from")
                                if all(on) else "extend" + key[len("carry"):])
+                    elif (axis, turn) in starts and key == "carry_turn":  # said where it starts
+                        to = dict(to, turns2=Many(tuple(corners[axis, turn])),
+                                  vp3=words.vp(turn, *legs[axis, turn][-1]))
+                        carrying.append(moving(
+                            "carry_from_walk_to" if "points" in to else "carry_from_walk", runs,
+                            vp2=words.vp(axis, *legs[axis, turn][0]),
+                            turns=Many(tuple(starts[axis, turn])), **to))
+                        continue
                     carrying.append(moving(
                         key + "_to" if "points" in to else key, runs,
                         vp=words.vp(axis, *legs[axis, turn][0]),
@@ -2080,6 +2098,13 @@ class _Context(_Repeats, _Ellipses):
         for k, (_, _, _, _, _, carry) in enumerate(built):
             if carry and k not in skip:
                 groups.setdefault(key_of(carry), []).append(k)
+        self._merged = {}
+        self._far = set()
+
+        def groups_of(k: int) -> list[int]:
+            """The carries said in one sentence with carry ``k`` (its directions)."""
+            return [j for j, e in enumerate(built)
+                    if e[5] and j not in skip and key_of(e[5]) == key_of(built[k][5])]
         # the lines on the paper: edges of the parts drawn before, this step's lines every
         # level with guides shows (not construction lines)
         segments = [(p, q) for other in drawn for p, q in self.scaffold_ends(other)]
@@ -2130,11 +2155,16 @@ class _Context(_Repeats, _Ellipses):
                 continue
             # one sentence says them: the same directions, each extended along its own line
             # first or each carried off it
+            # ... and each from the end of its line a carry starts from (the primer: the end
+            # nearer the part) or each said to start from the other ("Carry B'C' from B'
+            # ...": a read-through of the mixer's head began at C'), once it turns only once
+            far = [self.far_start(built[k][3].result, w, child)
+                   for k, w in zip(groups[key], walks) if w is not None]
             ways = {(tuple(_moving_axis(ln) for ln in w),
                      _moving_axis(_Line("", built[k][3].result.start, built[k][3].result.end))
                      == _moving_axis(w[0]))
                     for k, w in zip(groups[key], walks) if w is not None}
-            if len(ways) != 1:
+            if len(ways) != 1 or len(set(far)) != 1 or (far[0] and len(walks[0] or ()) > 2):
                 continue
             new = key_of([ln for ln in walks[0] or ()])
             if new != key and new in used:
@@ -2142,6 +2172,8 @@ class _Context(_Repeats, _Ellipses):
             used.add(new)
             for k, w in zip(groups[key], walks):
                 built[k] = built[k][:5] + (list(w or ()),)
+                if far[0]:
+                    self._far.add(k)
                 turns = [ln.end for ln in (w or ())[:-1]
                          if not any(_on_segment(ln.end, p, q, tol) for p, q in segments)]
                 parts = tuple(other for other, lines in boxes.items()
@@ -2150,7 +2182,46 @@ class _Context(_Repeats, _Ellipses):
                 lines_ = tuple(next((a, b, n) for a, b, n in earlier
                                     if _on_segment(t, a, b, tol)) for t in rest)
                 out[k] = (parts, tuple(dict.fromkeys(lines_)))
-        return out
+        # a walk that draws, besides its own line, only what another carry draws (the
+        # chair's seat: its bottom carried "from F", along the line carrying its middle; the
+        # train's chimney: its front and its right side up from one corner) is said with
+        # that carry ("..., for its middle (left to right) and bottom"): the larger
+        # sentences' lines into the smaller ones
+        size = {k: sum(key_of(built[k][5]) == key_of(built[j][5]) for j in groups_of(k))
+                for k in range(len(built)) if built[k][5] and k not in skip}
+        merged: dict[int, int] = {}
+        for k in sorted(out, key=lambda k: (-size[k], k)):
+            res = built[k][3].result
+            extra = [ln for ln in built[k][5] if not (_on_line(ln.start, res.start, res.end, tol)
+                                                      and _on_line(ln.end, res.start, res.end, tol))]
+            if not extra:
+                continue
+            into = [j for j in sorted(size, key=lambda j: (size[j], j))
+                    if j != k and j not in merged and merged.get(j) != k
+                    and key_of(built[j][5]) != key_of(built[k][5])
+                    and all(any(_on_segment(ln.start, q.start, q.end, tol)
+                                and _on_segment(ln.end, q.start, q.end, tol)
+                                for q in built[j][5]) for ln in extra)]
+            if into:
+                merged[k] = into[0]
+        self._merged = merged
+        return {k: v for k, v in out.items() if k not in merged}
+
+    @staticmethod
+    def far_start(result: Any, walk: Sequence[_Line], child: Box) -> bool:
+        """Does ``walk`` leave its line (``result``) from the end farther from the ``child``
+        box, the first leg running across the line (a reader starts a carry at the end nearer
+        the part, as the primer says, unless told)?"""
+        if _moving_axis(walk[0]) == _moving_axis(_Line("", result.start, result.end)):
+            return False  # extended along the line, or carried from a point on it: said
+        lo, hi = (np.asarray(v, dtype=float) for v in child)
+
+        def gap(p: Any) -> float:
+            q = np.asarray(p, dtype=float)
+            return float(np.linalg.norm(np.maximum(lo - q, 0.0) + np.maximum(q - hi, 0.0)))
+
+        near = min((result.start, result.end), key=gap)
+        return gap(walk[0].start) > gap(near) and not _same_point(walk[0].start, near, 0.0)
 
     def scaffold_ends(self, part: str) -> list[tuple[np.ndarray, np.ndarray]]:
         """The 3D ends of ``part``'s scaffold strokes in its selected box (computed once)."""
