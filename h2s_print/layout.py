@@ -1636,11 +1636,8 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
                                role="part_names")
         items += head
         top -= 1.5
-        for label, name in plan.part_names:
-            para, top = _paragraph(x0 + 4, top, text_w - 4, _t("parts.entry", label=label,
-                                                                full=name), 9, role="part_name")
-            items += para
-            top -= 1
+        items += _name_columns(x0 + 4, top, text_w - 4, y0, [
+            _t("parts.entry", label=label, full=name) for label, name in plan.part_names])
     # The finished drawing, zoomed on its own extent.
     if landscape:
         area = (x0 + text_w + 12, y0 + 14, x1, y1 - 8)
@@ -1659,6 +1656,34 @@ def _cover_page(f: _Frame, title: str, plan: ViewPlan, view_label: str,
         items.append(Text(view.rect[0], view.rect[3] + 2.0, _t("cover.image_caption"), 9,
                           "Helvetica-Oblique", "start", "grey", "image_caption"))
     return Page(f.width, f.height, tuple(items), (Bookmark(_t("cover.bookmark")),), "cover", title, f.margin)
+
+
+#: Columns the cover's list of part names may take, at most (:func:`_name_columns`).
+NAME_COLUMNS = 4
+
+
+def _name_columns(x: float, top: float, width: float, bottom: float,
+                  entries: Sequence[str]) -> list[Item]:
+    """The cover's list of part names from ``top`` down, in as few columns side by side (up
+    to :data:`NAME_COLUMNS`) as keep it above ``bottom`` (a read-through of the oven's cover:
+    its eleven names ran off the page, the last one lost), filled top to bottom; in the most
+    columns where none fits."""
+    items: list[Item] = []
+    for cols in range(1, NAME_COLUMNS + 1):
+        per = -(-len(entries) // cols)
+        col_w = (width - 3.0 * (cols - 1)) / cols
+        items, low = [], top
+        for c in range(cols):
+            y = top
+            for entry in entries[c * per:(c + 1) * per]:
+                para, y = _paragraph(x + c * (col_w + 3.0), y, col_w, entry, 9,
+                                     role="part_name")
+                items += para
+                y -= 1
+            low = min(low, y + 1)
+        if low >= bottom:
+            break
+    return items
 
 
 #: Indent of a sub-step's text after its number, mm.

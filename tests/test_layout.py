@@ -1464,3 +1464,34 @@ def test_nearer_other_is_math_hypot_pair_by_pair():
         ties += sum(math.hypot(px - dx, py - dy) == o for dx, dy in dots.tolist()
                     for (px, py), o in zip(points.tolist(), own))
     assert ties > 20
+
+
+def test_a_cover_keeps_every_part_name_on_the_page(shared_models):
+    """The oven's cover listed its eleven parts' names down past the page's margin and lost
+    the last (a read-through): the list takes columns side by side as it needs.  Every text of
+    every cover of the oven's tutorials lies inside the margins (its descenders too), and each
+    part's label is listed once."""
+    from pathlib import Path
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.pipeline import plan_tutorial
+
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
+                      / "oven_101773.yaml")
+    result = plan_tutorial(t)
+    checked = 0
+    for vp in result.views:
+        cover = next(p for p in L.lay_out_workbook(t.title, vp, t.paper, view_label=vp.name)
+                     if p.kind == "cover")
+        for it in cover.items:
+            if isinstance(it, L.Text):
+                low = it.y_mm - 0.21 * it.size_pt * L.PT_MM
+                assert low >= cover.margin_mm - 1e-6, (vp.name, vp.level, it.string)
+                assert it.y_mm <= cover.height_mm - cover.margin_mm + 1e-6, it.string
+        names = [it.string for it in cover.items
+                 if isinstance(it, L.Text) and it.role == "part_name"]
+        assert vp.part_names and len(names) == len(vp.part_names), (names, vp.part_names)
+        for label, _ in vp.part_names:
+            assert sum(x.startswith(f"{label}:") for x in names) == 1, (label, names)
+        checked += 1
+    assert checked >= 4
