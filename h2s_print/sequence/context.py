@@ -73,12 +73,14 @@ from .geometry import (
     _anchor_lines,
     _box_corners,
     _contour_strokes,
+    _covers,
     _Crossing,
     _crossing_carry,
     _drawn_box,
     _extent,
     _floor_corner,
     _floor_under,
+    _front_facing,
     _walk_carry,
     _Line,
     _Meeting,
@@ -89,6 +91,7 @@ from .geometry import (
     _on_line,
     _near_segment,
     _on_segment,
+    _polygon_area_mm2,
     _round,
     _runs_along,
     _same_point,
@@ -895,15 +898,46 @@ class _Context(_Repeats, _Ellipses):
         """What the texts call ``part`` (:func:`h2s_print.names.display_names`)."""
         return self.names[part].label
 
-    def part_labels(self, part: str, box: Box, numbered: bool = False
-                    ) -> tuple[tuple[str, Vec3], ...]:
+    def part_labels(self, part: str, box: Box, numbered: bool = False,
+                    others: Sequence[Box] = ()) -> tuple[tuple[str, Vec3], ...]:
         """The short name drawn next to a part whose own name is not readable, or (with
         ``numbered``) whose step draws another part named alike but for its number: the
         train's "wheel 1, wheel 3, wheel 5 and wheel 7" left a reader asking which was which
         (else none)."""
         if self.names[part].readable and not numbered:
             return ()
-        return ((self.names[part].label, _vec(np.mean(np.asarray(box, dtype=float), axis=0))),)
+        return ((self.names[part].label, self.label_point(part, box, others)),)
+
+    def label_point(self, part: str, box: Box, others: Sequence[Box] = ()) -> Vec3:
+        """Where a part's short name goes: the middle of its box, unless the picture of
+        another box (``others``) covers that point on the sheet; then the first point of the
+        faces the view shows (their middles, then at a quarter and three quarters across
+        them) that no other box covers (the IVAR box's two panels, one behind the other:
+        "part 3" stood inside the front panel, "part 2" below it, a read-through read them
+        swapped); where every one is covered, the middle."""
+        b = np.asarray(box, dtype=float)
+        centre = b.mean(axis=0)
+        if not others:
+            return _vec(centre)
+        pts = [centre]
+        shown = [f for f in (Face(box, n, e) for n in range(3) for e in ("lo", "hi"))
+                 if _front_facing(f, self.camera)]
+        shown.sort(key=lambda f: -_polygon_area_mm2(self.camera, f.corners))
+        for f in shown:
+            u, v = f.in_axes
+            for su, sv in ((0.5, 0.5), (0.25, 0.5), (0.75, 0.5), (0.5, 0.25), (0.5, 0.75)):
+                p = np.array(centre)
+                p[f.normal] = f.coord
+                p[u] = b[0][u] + su * (b[1][u] - b[0][u])
+                p[v] = b[0][v] + sv * (b[1][v] - b[0][v])
+                pts.append(p)
+        mm = self.camera.project(np.asarray(pts, dtype=float))
+        covered = np.zeros(len(pts), dtype=bool)
+        for other in others:
+            corners = self.camera.project(_box_corners(other))
+            covered |= _covers(np.asarray(corners, dtype=float), mm)
+        free = np.flatnonzero(~covered)
+        return _vec(pts[int(free[0])] if len(free) else centre)
 
     def lettered(self, specs: Sequence[Spec]) -> tuple[Spec, ...]:
         """A step's sub-steps, each said once, twins together
@@ -2576,11 +2610,18 @@ class _Context(_Repeats, _Ellipses):
             members = list(dict.fromkeys([d.part] + [st.part for st in d.strokes])) \
                 if box is not None else []
             stems = [stem(self.say(q)) for q in members]
+            def box_of(q: str) -> Box:
+                return box if q == d.part and box is not None else (
+                    self.plan.primitive(q).box if level == "basic" else self.chosen[q].box)
+
+            # (the boxes on the picture: the parts drawn so far)
+            on_picture = list(dict.fromkeys(q for st in steps for q in
+                                            [st.part, *(s.part for s in st.strokes)]
+                                            if q is not None)) + members
             named = tuple(self.label(n, p, "part") for q, base in zip(members, stems)
-                          for n, p in self.part_labels(q, box if q == d.part else (
-                              self.plan.primitive(q).box if level == "basic"
-                              else self.chosen[q].box), base is not None
-                              and stems.count(base) > 1))
+                          for n, p in self.part_labels(
+                              q, box_of(q), base is not None and stems.count(base) > 1,
+                              [box_of(o) for o in dict.fromkeys(on_picture) if o != q]))
             if level == "master":
                 subs: tuple[str, ...] = ()
                 labels: tuple[Label, ...] = named

@@ -128,6 +128,26 @@ def _tiny_loop(mm: np.ndarray) -> bool:
     return float(max(ext[0], ext[1])) < TINY_LOOP_MM
 
 
+#: A box's faces as corner indices of :func:`_box_corners` (each a loop).
+_BOX_FACES = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))
+
+
+def _covers(corners_mm: np.ndarray, points_mm: np.ndarray) -> np.ndarray:
+    """Which of ``points_mm`` (n, 2) lie inside the sheet picture of a box, given its eight
+    corners' projections (8, 2) in :func:`_box_corners`' order: a box's picture is the union
+    of its faces' pictures, each a convex quadrilateral (strictly inside, so a flat box
+    covers nothing)."""
+    pts = np.asarray(points_mm, dtype=float).reshape(-1, 2)
+    inside = np.zeros(len(pts), dtype=bool)
+    for face in _BOX_FACES:
+        quad = corners_mm[list(face)]
+        edge = np.roll(quad, -1, axis=0) - quad  # (4, 2)
+        rel = pts[:, None, :] - quad[None, :, :]  # (n, 4, 2)
+        cross = edge[None, :, 0] * rel[:, :, 1] - edge[None, :, 1] * rel[:, :, 0]
+        inside |= (cross > 1e-9).all(axis=1) | (cross < -1e-9).all(axis=1)
+    return inside
+
+
 def _sheet_polygon(camera: Camera, corners: Sequence[Vec3]) -> tuple[float, float]:
     """A planar polygon's projection on the sheet: its area (mm², shoelace) and its longest
     side (mm); the area over the longest side is how wide it is."""
