@@ -4179,3 +4179,27 @@ def test_no_two_carries_of_a_step_draw_one_line(examples, shared_models):
                     name, vp.name, s.index, s.text)
                 checked += 1
     assert checked
+
+
+def test_copies_said_directly_beside_the_part_come_first_and_no_text_has_an_empty_sentence(
+        shared_models):
+    """The oven's buttons: "Button 4: the same box, directly to its left." said after
+    "Button 1, button 2 and button 3: the same box, ..." read as button 3's left (a
+    read-through): a copy placed "directly" beside the step's part is said first, next to
+    that part.  And a master's text never holds an empty sentence (it read "... front face. .
+    Button 4 ...", a summary with nothing to say)."""
+    t, plan, _ = _public("oven_101773")
+    shift = re.compile(r"the same \w[\w ]*, directly ")
+    seen = 0
+    for view in t.views:
+        for level in ("novice", "apprentice", "master"):
+            vp = seq.sequence_view(plan, view, level, t.paper, t.sequence)
+            for s in vp.steps:
+                assert ". ." not in s.text and not s.text.startswith("."), (level, s.text)
+                sentences = [x for x in (s.substeps or re.split(r"(?<=\.) ", s.summary))
+                             if "the same" in x]
+                for k, x in enumerate(sentences):
+                    if shift.search(x):
+                        assert k == 0, (view.name, level, s.index, sentences)
+                        seen += 1
+    assert seen

@@ -1315,9 +1315,10 @@ class _Context(_Repeats, _Ellipses):
         # (a master read nothing of the shutter button's "Centre it front to back")
         unguided = self.free_positions(part, drawn, cand.unguided_axes)
         # (a part placed by eye has a headline that names no face: all its anchors said)
-        summary = _cap(_join(_ratio_phrases(
+        said = _join(_ratio_phrases(
             words, [a for a in cand.anchors if eyeball or a not in contact], self.parent_name)
-            + self.lined_up(unguided))) + "."
+            + self.lined_up(unguided))
+        summary = _cap(said) + "." if said else ""  # (a master read "front face. . Button 4")
         if eyeball:
             specs = [spec("position", position=x)
                      for x in _positions(words, cand.anchors, self.parent_name, True)]

@@ -167,7 +167,10 @@ class _Repeats:
             else:
                 out.append(spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
                                 shape=shape))
-        return out
+        # a copy "directly to its left" first, next to the part "its" is (the oven's "Button
+        # 4: the same box, directly to its left." after "Button 1, button 2 and button 3:
+        # ..." read as button 3's left, a read-through)
+        return sorted(out, key=lambda x: x.key != "repeat_shift")
 
     def at_corners(self, first: str | None, copies: Sequence[str]) -> str | None:
         """The part drawn before whose upright corners ``first`` and each of ``copies``
