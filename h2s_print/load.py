@@ -452,11 +452,11 @@ def _plain_glb(path: Path) -> _Groups | None:
             return None
         header = json.loads(data[20:at].decode("utf-8"))
         n_bin, kind = struct.unpack_from("<I4s", data, at)
-        if kind != b"BIN\x00" or at + 8 + n_bin != len(data):
+        if kind != b"BIN\x00" or at + 8 + n_bin != len(data) or not isinstance(header, dict):
             return None
         blob = memoryview(data)[at + 8:]
         buffers = header.get("buffers", [])
-        if (not isinstance(header, dict) or "extensions" in header
+        if ("extensions" in header
                 or header.get("extensionsUsed") or header.get("extensionsRequired")
                 or len(buffers) != 1 or "uri" in buffers[0]):
             return None

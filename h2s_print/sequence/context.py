@@ -72,6 +72,7 @@ from .geometry import (
     TINY_LOOP_MM,
     _anchor_lines,
     _box_corners,
+    _carry_ways,
     _contour_strokes,
     _covers,
     _Crossing,
@@ -91,6 +92,7 @@ from .geometry import (
     _on_line,
     _near_segment,
     _on_segment,
+    _placed_planes,
     _polygon_area_mm2,
     _round,
     _runs_along,
@@ -1491,9 +1493,7 @@ class _Context(_Repeats, _Ellipses):
                             lasts[first, turn] = (carry[2].start, carry[2].end)
                     elif turn is not None:
                         n = face.normal  # the turn lies on a plane of the part across n
-                        placed = [cand.box[0][n] if a.end == "lo" else cand.box[1][n]
-                                  if a.end == "hi" else 0.5 * (cand.box[0][n] + cand.box[1][n])
-                                  for a in cand.anchors if a.axis == n]
+                        placed = _placed_planes(cand.box, cand.anchors, n)
                         leg = (None if floor_z is None or n != 2
                                else self.floor_leg(carry, floor_z, foot))
                         if leg is not None:  # on the floor, where a line from its foot goes
@@ -2125,21 +2125,17 @@ class _Context(_Repeats, _Ellipses):
         turns on and the earlier lines it turns on (its step draws them again)."""
         tol = 10.0 * self.tol
 
-        def key_of(carry: Sequence[_Line]) -> tuple[int, int | None]:
-            axes = [_moving_axis(c) for c in carry]
-            return axes[0], next((x for x in axes[1:] if x != axes[0]), None)
+        def grouped() -> dict[tuple[int, int | None], list[int]]:
+            """The carries by the sentence they are said in (their directions)."""
+            out: dict[tuple[int, int | None], list[int]] = {}
+            for k, (_, _, _, _, _, carry) in enumerate(built):
+                if carry and k not in skip:
+                    out.setdefault(_carry_ways(carry), []).append(k)
+            return out
 
-        groups: dict[tuple[int, int | None], list[int]] = {}
-        for k, (_, _, _, _, _, carry) in enumerate(built):
-            if carry and k not in skip:
-                groups.setdefault(key_of(carry), []).append(k)
+        groups = grouped()
         self._merged = {}
         self._far = set()
-
-        def groups_of(k: int) -> list[int]:
-            """The carries said in one sentence with carry ``k`` (its directions)."""
-            return [j for j, e in enumerate(built)
-                    if e[5] and j not in skip and key_of(e[5]) == key_of(built[k][5])]
         # the lines on the paper: edges of the parts drawn before, this step's lines every
         # level with guides shows (not construction lines)
         segments = [(p, q) for other in drawn for p, q in self.scaffold_ends(other)]
@@ -2154,9 +2150,7 @@ class _Context(_Repeats, _Ellipses):
                                 if k2 not in ks for ln in entry[5]]
             for k in ks:
                 carry, n = built[k][5], built[k][2].normal
-                placed = [cand.box[0][n] if a.end == "lo" else cand.box[1][n]
-                          if a.end == "hi" else 0.5 * (cand.box[0][n] + cand.box[1][n])
-                          for a in cand.anchors if a.axis == n]
+                placed = _placed_planes(cand.box, cand.anchors, n)
                 leg = (None if floor_z is None or n != 2
                        else self.floor_leg(carry, floor_z, foot))
                 if leg is not None:
@@ -2201,7 +2195,7 @@ class _Context(_Repeats, _Ellipses):
                     for k, w in zip(groups[key], walks) if w is not None}
             if len(ways) != 1 or len(set(far)) != 1 or (far[0] and len(walks[0] or ()) > 2):
                 continue
-            new = key_of([ln for ln in walks[0] or ()])
+            new = _carry_ways([ln for ln in walks[0] or ()])
             if new != key and new in used:
                 continue
             used.add(new)
@@ -2222,8 +2216,7 @@ class _Context(_Repeats, _Ellipses):
         # train's chimney: its front and its right side up from one corner) is said with
         # that carry ("..., for its middle (left to right) and bottom"): the larger
         # sentences' lines into the smaller ones
-        size = {k: sum(key_of(built[k][5]) == key_of(built[j][5]) for j in groups_of(k))
-                for k in range(len(built)) if built[k][5] and k not in skip}
+        size = {k: len(ks) for ks in grouped().values() for k in ks}  # (walks regrouped)
         merged: dict[int, int] = {}
         for k in sorted(out, key=lambda k: (-size[k], k)):
             res = built[k][3].result
@@ -2233,7 +2226,7 @@ class _Context(_Repeats, _Ellipses):
                 continue
             into = [j for j in sorted(size, key=lambda j: (size[j], j))
                     if j != k and j not in merged and merged.get(j) != k
-                    and key_of(built[j][5]) != key_of(built[k][5])
+                    and _carry_ways(built[j][5]) != _carry_ways(built[k][5])
                     and all(any(_on_segment(ln.start, q.start, q.end, tol)
                                 and _on_segment(ln.end, q.start, q.end, tol)
                                 for q in built[j][5]) for ln in extra)]

@@ -276,8 +276,7 @@ def _solid(primitive: Any, box: Box) -> tuple[np.ndarray, list[tuple[int, ...]],
         return pts, faces, False
     # box: corner index i*4 + j*2 + k for (x, y, z) ends (i, j, k)
     pts = _box_corners(box)
-    faces = [(0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5)]
-    return pts, faces, False
+    return pts, [tuple(f) for f in _BOX_FACES], False
 
 
 def _scaffold(part: str, primitive: Any, box: Box, camera: Camera, tol: float) -> tuple[Stroke, ...]:
@@ -744,6 +743,20 @@ def _mesh_area(part: Part) -> float:
         return 0.0
     return float(0.5 * np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]),
                                       axis=1).sum())
+
+
+def _carry_ways(carry: Sequence[_Line]) -> tuple[int, int | None]:
+    """A carry's first direction and the one it turns to (None: it does not turn): the
+    sentence it is said in (carries going the same ways are said together)."""
+    axes = [_moving_axis(c) for c in carry]
+    return axes[0], next((x for x in axes[1:] if x != axes[0]), None)
+
+
+def _placed_planes(box: Box, anchors: Sequence[Any], n: int) -> list[float]:
+    """The planes across axis ``n`` of a part's ``box`` that its ``anchors`` place (its
+    faces, or its middle)."""
+    return [box[0][n] if a.end == "lo" else box[1][n] if a.end == "hi"
+            else 0.5 * (box[0][n] + box[1][n]) for a in anchors if a.axis == n]
 
 
 def _moving_axis(line: _Line) -> int:
