@@ -1245,6 +1245,41 @@ def test_sheet_labels_and_arrows_keep_off_the_printed_first_box(examples, shared
         assert not _sheet_clashes_with_footprint(sheet(t, vp, view.name)), view.name
 
 
+def test_the_first_boxs_height_sentence_matches_the_sheets_line(examples):
+    # a read-through: in a three-point view (high-right) step 1 said "Its height is the blue
+    # upright line on your sheet." where the sheet's height line leans toward the vanishing
+    # point below.  The sentence names the footprint's corner the line rises from; that
+    # corner is the footprint's nearest to the eye in plan (worked out here from the
+    # camera), and no sentence calls a leaning line upright or vertical
+    from h2s_print.templates import lookup
+
+    plain = lookup("steps", "substep.first_height")
+    assert "nearest corner" in plain
+    leaning = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            edge = S.first_near_edge(vp)
+            first = vp.steps[0]
+            if edge is None or plain not in first.substeps:
+                continue
+            pts = np.array([p for s in first.strokes for p in s.points3d], dtype=float)
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            eye = np.asarray(vp.camera.position, dtype=float)
+            corners = [(x, y) for x in (lo[0], hi[0]) for y in (lo[1], hi[1])]
+            near = min(corners, key=lambda c: np.hypot(c[0] - eye[0], c[1] - eye[1]))
+            bottom = vp.camera.project(np.array([[near[0], near[1], lo[2]]]))[0]
+            assert np.allclose(edge[0], bottom, atol=1e-9), (name, view)
+            (bx, by), (tx, ty) = edge
+            lean = abs(np.degrees(np.arctan2(tx - bx, ty - by)))
+            if lean > 0.5:
+                leaning += 1
+                said = " ".join(first.substeps).lower()
+                assert "upright" not in said and "vertical" not in said, (name, view)
+    assert leaning >= 2  # the camera's and the mixer's three-point views
+
+
 def test_a_raised_first_boxs_height_is_told_apart_from_the_floor_line(examples, shared_models):
     # a read-through of the desk: its height and the floor line are one blue upright line
     # through the footprint's corner, and "Its height is the blue upright line" made the
