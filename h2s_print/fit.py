@@ -667,10 +667,12 @@ def _frustum_fit(s: _Samples, axis: int) -> _Fit | None:
     }, rejected)
 
 
-def _solid_fits(s: _Samples, known: _Fit | None = None) -> list[_Fit]:
+def _solid_fits(s: _Samples, known: _Fit | None = None, cuboid: _Fit | None = None
+                ) -> list[_Fit]:
     """The cuboid, the cylinder on every axis and the frustum on every axis but a slab's, in
-    that order; ``known``, a cylinder already fitted, is reused on its axis."""
-    fits = [_cuboid_fit(s)]
+    that order; ``known``, a cylinder already fitted, is reused on its axis, and ``cuboid``,
+    the cuboid already fitted."""
+    fits = [cuboid if cuboid is not None else _cuboid_fit(s)]
     fits += [known if known is not None and known.axis == axis else _cylinder_fit(s, axis)
              for axis in range(3)]
     fits += [f for f in (_frustum_fit(s, axis) for axis in range(3)) if f is not None]
@@ -798,7 +800,15 @@ def fit_primitive(part: Part, settings: FitSettings = FitSettings()) -> Primitiv
     hull = None if round_axis is None else _cylinder_fit(s, round_axis)
     if hull is not None and hull.rejected is None:
         return _reported(part, hull)
-    return _choose(part, planes + _solid_fits(s, hull), round_axis, settings)
+    cuboid = _cuboid_fit(s)
+    if cuboid.score <= min(_EXACT, settings.custom_above):
+        # an exact box: rule 2 picks the cuboid whatever the round solids score (it is the
+        # simplest solid and within any tie of the least), and the least score, at most its
+        # own, does not make the part custom; so they are not fitted (the train's engine,
+        # wagon and cab, the generated models' boxes)
+        return _choose(part, planes + [cuboid] + ([hull] if hull is not None else []),
+                       round_axis, settings)
+    return _choose(part, planes + _solid_fits(s, hull, cuboid), round_axis, settings)
 
 
 #: A plane is round when every corner of its outline's convex hull, scaled to the unit square

@@ -706,13 +706,16 @@ def _choice_over_every_fit(part, settings):
     ("dowel", FitSettings(n_samples=500), True),
     ("oval", FitSettings(n_samples=500), False),  # a round hull, its square box too wide
     ("bowl", FitSettings(n_samples=500), False),
-    ("box", FitSettings(n_samples=500), False),
+    ("box", FitSettings(n_samples=500), True),  # an exact box: the cuboid
+    ("box", FitSettings(n_samples=500, custom_above=0.0), False),  # ... unless custom can win
+    ("wedge", FitSettings(n_samples=500), False),  # a box cut on a slant: not exact
     ("cross", FitSettings(n_samples=500), False),  # custom
 ])
 def test_fit_primitive_is_the_choice_over_every_fit(monkeypatch, shape, settings, skips):
     """fit_primitive fits the solids only when they can change its result: it is the choice
     over every fit, bit for bit, with the solids skipped exactly for a thin slab within
-    ``custom_above`` and a part whose hull is an admissible cylinder."""
+    ``custom_above``, a part whose hull is an admissible cylinder and an exact box (its
+    cuboid's score within ``_EXACT`` and ``custom_above``)."""
     from h2s_print import fit
 
     mesh = {
@@ -722,6 +725,8 @@ def test_fit_primitive_is_the_choice_over_every_fit(monkeypatch, shape, settings
         "oval": lambda: trimesh.creation.cylinder(1.0, 1.0, sections=64).apply_scale((1.2, 1, 1)),
         "bowl": lambda: _truncated(_ring(1.0, 64), _ring(2.0, 64)),
         "box": lambda: trimesh.creation.box((1.0, 2.0, 3.0)),
+        "wedge": lambda: trimesh.convex.convex_hull(np.array(
+            [(x, y, z) for x in (0, 1) for y in (0, 2) for z in (0, 3 if x == 0 else 1.5)])),
         "cross": lambda: trimesh.util.concatenate([trimesh.creation.box(e) for e in
                                                    ((3, 0.5, 0.5), (0.5, 3, 0.5), (0.5, 0.5, 3))]),
     }[shape]()
