@@ -210,7 +210,7 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         order: list[int] = []
         for s in specs:
             for _, value in s.fields:
-                for p in _points_of(value):
+                for p in points_of(value):
                     i = find(p)
                     if i not in order:
                         order.append(i)
@@ -225,7 +225,7 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             if not (isinstance(n, int) and 0 < n <= k):
                 continue
             for value in fields.values():
-                for p in _points_of(value):
+                for p in points_of(value):
                     i = find(p)
                     if i not in named[n - 1]:
                         named[n - 1].append(i)
@@ -321,7 +321,8 @@ def line_runs(value: Pts | Many) -> tuple[Pts, ...]:
     return value.items if isinstance(value, Many) else (value,)
 
 
-def _points_of(value: Any) -> tuple[Vec3, ...]:
+def points_of(value: Any) -> tuple[Vec3, ...]:
+    """The points a field's value names (a :class:`Pts` or :class:`Many`; none else)."""
     if isinstance(value, Pts):
         return value.points
     if isinstance(value, Many):

@@ -24,6 +24,7 @@ from ..instructions import (
     letter_steps,
     line_runs,
     points_key,
+    points_of,
     spec,
     unique_specs,
 )
@@ -98,6 +99,7 @@ from .geometry import (
     _runs_along,
     _same_point,
     _same_segment,
+    _segments_cross,
     _scaffold,
     _Segments,
     _sheet_length,
@@ -210,6 +212,11 @@ def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
 
 #: Citations of an edge of a drawn part.
 _EDGE_CITES = ("edge", "edge_two", "edge_for", "edge_for_two")
+#: Centring sentences said of two crossing lines in one (:meth:`_Context.centred_together`).
+_CROSS_CENTRED = {"centred": "centred_cross", "centred_reuse": "centred_cross_reuse",
+                  "centred_carried": "centred_cross_carried",
+                  "centred_extended": "centred_cross_extended"}
+
 #: Citations of the lines an earlier step carried or extended (no line named).
 _MOVED_CITES = ("reuse_carried", "reuse_carried_for", "reuse_extended", "reuse_extended_for")
 
@@ -1063,7 +1070,10 @@ class _Context(_Repeats, _Ellipses):
     def centred_together(self, specs: Sequence[Spec]) -> list[Spec]:
         """Two centrings on one line, one sentence: "Centre the handle left to right and
         front to back on QR, carried in step 4." (a read-through: the same line in two
-        sentences read as two lines)."""
+        sentences read as two lines).  Two centrings said alike, in two directions, on two
+        lines that cross: where they cross ("Centre the neck where GN and MN cross, both
+        carried in step 3." for two sentences of 11 words each: the box's middle in both
+        directions is the crossing; issue 11, and a dowel's step 79 words long)."""
         out: list[Spec] = []
         for x in specs:
             prev = out[-1] if out else None
@@ -1071,12 +1081,19 @@ class _Context(_Repeats, _Ellipses):
                 pf, xf = dict(prev.fields), dict(x.fields)
                 if (isinstance(pf["line"], Pts) and isinstance(xf["line"], Pts)
                         and len(pf["line"].points) == len(xf["line"].points) == 2
-                        and _same_segment(*pf["line"].points, *xf["line"].points, self.tol)
                         and pf.get("step") == xf.get("step")
                         and pf["directions"] != xf["directions"]):
-                    out[-1] = spec(x.key, prev.same, prev.pair, **{
-                        **pf, "directions": _join([pf["directions"], xf["directions"]])})
-                    continue
+                    if _same_segment(*pf["line"].points, *xf["line"].points, self.tol):
+                        out[-1] = spec(x.key, prev.same, prev.pair, **{
+                            **pf, "directions": _join([pf["directions"], xf["directions"]])})
+                        continue
+                    if (x.key in _CROSS_CENTRED and pf["part"] == xf["part"]
+                            and _segments_cross(*pf["line"].points, *xf["line"].points,
+                                                self.tol)):
+                        out[-1] = spec(_CROSS_CENTRED[x.key], prev.same + x.same, prev.pair,
+                                       **{k: v for k, v in pf.items() if k != "directions"},
+                                       other=xf["line"])
+                        continue
             out.append(x)
         return out
 
@@ -1989,8 +2006,9 @@ class _Context(_Repeats, _Ellipses):
              ) -> list[list["_Unit"]]:
         """Units of construction grouped into steps of at most :data:`MAX_STEP_WORDS` words:
         the last group goes with ``closing`` (the placing sub-steps) under ``head``, the
-        others are guides steps under ``guides_head(group)``; one unit alone may exceed the
-        limit (it is not cut).  Lines an earlier group drew are not counted again (they are
+        others are guides steps under ``guides_head(group)``; a unit too long for a step of
+        its own is cut in two where it can be (:meth:`split_unit`), else it exceeds the
+        limit.  Lines an earlier group drew are not counted again (they are
         not said again).  An edge the placing step cites is counted with what it places, as
         that step says it ("Use the edge QR for its front.")."""
         def fits(group: list[_Unit], extra: list[Spec], said: set) -> bool:
@@ -2007,7 +2025,8 @@ class _Context(_Repeats, _Ellipses):
         reuse = _citations([units], step, self.anchor_side, box)
         # Edges extended and guides reused need no room: they stay with the placing step.
         tail = [u for u in units if not u.room]
-        rest = [u for u in units if u.room]
+        rest = [v for u in units if u.room
+                for v in (self.split_unit(u, guides_head) if not fits([u], [], set()) else [u])]
 
         def said_by(groups: list[list[_Unit]]) -> set:
             return {x.same for g in groups for u in g for x in u.specs if x.same}
@@ -2061,6 +2080,36 @@ class _Context(_Repeats, _Ellipses):
             groups = [g for g in groups if g not in idle]
             tail = [u for g in idle for u in g] + tail
         return groups + [tail]
+
+    def split_unit(self, u: "_Unit", guides_head: Callable[[list["_Unit"]], str]
+                   ) -> list["_Unit"]:
+        """``u``, a unit too long for a guides step of its own, as two units of consecutive
+        sub-steps that each fit one, or ``[u]`` where no cut does.  The first takes the lines
+        whose ends its sub-steps name (every line it draws is one it says), the second the
+        others with the anchors and results; the cut is where the two come closest in
+        words.  From views nobody tuned, the train's chimney found its middle lines on the
+        boiler and extended half the face in one step of six sub-steps, 73-74 words: now
+        "Draw diagonals ..., through M draw FU ... and VE' ..." and then "Extend LQ ... from
+        U through E' ... from X' draw X'Y'" (issue 11: no step over 70 words)."""
+        best: tuple[int, "_Unit", "_Unit"] | None = None
+        for k in range(1, len(u.specs)):
+            named = [p for x in u.specs[:k] for _, v in x.fields for p in points_of(v)]
+
+            def said(q: Vec3) -> bool:
+                return any(_same_point(q, r, self.tol) for r in named)
+
+            mine = [ln for ln in u.lines if said(ln.start) and said(ln.end)]
+            if not mine:
+                continue
+            first = _Unit(u.parent, list(u.specs[:k]), mine, room=True)
+            second = replace(u, specs=list(u.specs[k:]),
+                             lines=[ln for ln in u.lines if ln not in mine])
+            words = [self.step_words(v.specs, guides_head([v])) for v in (first, second)]
+            if max(words) > MAX_STEP_WORDS:
+                continue
+            if best is None or abs(words[0] - words[1]) < best[0]:
+                best = (abs(words[0] - words[1]), first, second)
+        return [u] if best is None else [best[1], best[2]]
 
     def uses_box(self, part: str, around: Sequence[_Line], con: Any) -> bool:
         """Does construction ``con`` on tapered ``part`` use its box: does an end of one of its

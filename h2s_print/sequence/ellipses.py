@@ -7,6 +7,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from .. import templates
 from ..constructions import Face, ellipse_on_face
 from ..instructions import Many, Pts, Spec, brief_fields, spec
 from ..names import natural_key
@@ -209,19 +210,31 @@ class _Ellipses:
                            self.lettered([spec("ellipse_by_eye")]))]
         same = [spec("ellipse_copies")] if copies else []
         key = "ellipse_plate" if not far else "ellipse_end"
+        # the copies named each, or, where that makes the step too long, the one its lines
+        # are drawn on and a count (the train's six wheels seen from behind: 72 words)
+        short = None if one else _cap(templates.plural(
+            "steps", "headline.and_more", len(copies), Part=self.say(near[0][0])))
+
+        def named(d: _Draft, key: str, face: str) -> _Draft:
+            if one or self.step_words(d.specs, d.headline) <= MAX_STEP_WORDS:
+                return d
+            return replace(d, headline=_t(f"headline.{key}_many", Parts=short, face=face))
+
         strokes = tuple(st for q, e in near for st in self.ellipse_strokes(q, e, basic))
-        out = [_Draft(part, "ellipse", False,
-                      tuple(_Line(ln.role, ln.start, ln.end) for _, e in near for ln in e.lines),
-                      strokes,
-                      _t(f"headline.{key}" + ("" if one else "_many"),
-                         Part=_cap(self.say(part)), Parts=who,
-                         face=self.words.face(axis, near[0][1].face.end)),
-                      self.lettered(self.ellipse_specs(near[0][0], near[0][1], bool(far),
-                                                       strokes) + same))]
+        face = self.words.face(axis, near[0][1].face.end)
+        out = [named(_Draft(part, "ellipse", False,
+                            tuple(_Line(ln.role, ln.start, ln.end)
+                                  for _, e in near for ln in e.lines),
+                            strokes,
+                            _t(f"headline.{key}" + ("" if one else "_many"),
+                               Part=_cap(self.say(part)), Parts=who, face=face),
+                            self.lettered(self.ellipse_specs(near[0][0], near[0][1], bool(far),
+                                                             strokes) + same)), key, face)]
         if not far:
             return out
+        face = self.words.face(axis, far[0][2].face.end)
         head = _t("headline.ellipse_end" + ("" if one else "_many"), Part=_cap(self.say(part)),
-                  Parts=who, face=self.words.face(axis, far[0][2].face.end))
+                  Parts=who, face=face)
         strokes = tuple(st for q, _, be in far for st in self.ellipse_strokes(q, be, basic))
         if prim.type == "frustum":  # its own construction on the far end rectangle
             be = far[0][2]
@@ -229,17 +242,18 @@ class _Ellipses:
                 out.append(_Draft(part, "ellipse", True, (), strokes, head,
                                   self.lettered([spec("ellipse_by_eye_end")])))
             else:
-                out.append(_Draft(
+                out.append(named(_Draft(
                     part, "ellipse", False,
                     tuple(_Line(ln.role, ln.start, ln.end) for _, _, e in far for ln in e.lines),
                     strokes, head,
-                    self.lettered(self.ellipse_specs(far[0][0], be, True, strokes) + same)))
+                    self.lettered(self.ellipse_specs(far[0][0], be, True, strokes) + same)),
+                    "ellipse_end", face))
             return out
         fe, be = near[0][1], far[0][2]
         around = Many(tuple(Pts((x,)) for x in fe.touch))
         # the carried points where they meet the far face's edges, lettered
         reached = Many(tuple(Pts((x,)) for x in be.touch))
-        out.append(_Draft(
+        out.append(named(_Draft(
             part, "ellipse", False,
             tuple(_Line("vanishing", x, y) for _, e, be in far for x, y in zip(e.touch, be.touch)),
             strokes, head,
@@ -247,7 +261,8 @@ class _Ellipses:
             # jargon)
             self.lettered([spec("ellipse_carry", points=around, new=reached,
                                 vp=self.words.vp(axis, fe.touch[0], be.touch[0]),
-                                face=self.words.face(axis, be.face.end)), *same])))
+                                face=self.words.face(axis, be.face.end)), *same])),
+            "ellipse_end", face))
         return out
 
     def ellipse_key(self, d: _Draft) -> tuple:
@@ -327,22 +342,43 @@ class _Ellipses:
         scaffold (:meth:`finish`), within the same limit: where it would not fit, the last
         outline draft is a step of its own."""
         out = self._packed(drafts, lead)
-        if out and self.step_words(self.finish(out[-1], unseen=unseen).specs,
-                                   out[-1].headline) > MAX_STEP_WORDS:
-            out = self._packed(drafts[:-1], lead) + self._packed(drafts[-1:], lead)
-        return out[:-1] + [self.finish(out[-1], unseen=unseen)] if out else out
+        if not out:
+            return out
 
-    def finish(self, d: _Draft, basic: bool = False, unseen: Sequence[str] = ()) -> _Draft:
-        """The tutorial's last step, with its last sub-steps: the parts drawn as boxes that
-        the finished drawing hides, said to have no outlines (a read-through: the chair's
-        part 5 was built, then never named again), and erase the boxes and guides round the
-        outlines (a read-through: no step said so, and the finished drawing kept its
-        scaffold); the control tutorial (``basic``) has boxes only, and no word of guides."""
+        def over(d: _Draft, hidden: Sequence[str]) -> bool:
+            return self.step_words(self.finish(d, unseen=hidden).specs,
+                                   d.headline) > MAX_STEP_WORDS
+
+        if over(out[-1], unseen):
+            out = self._packed(drafts[:-1], lead) + self._packed(drafts[-1:], lead)
+        if unseen and over(out[-1], unseen) and not over(out[-1], ()):
+            # the hidden parts said in the latest outline step before with room (the train's
+            # chimney from the right: its outlines, "Wheel 1, wheel 5 and wheel 3 are hidden
+            # ..." and the erasing, 78 words in one step)
+            for i in range(len(out) - 2, -1, -1):
+                said = self.hidden_said(out[i], unseen)
+                if self.step_words(said.specs, said.headline) <= MAX_STEP_WORDS:
+                    out[i], unseen = said, ()
+                    break
+        return out[:-1] + [self.finish(out[-1], unseen=unseen)]
+
+    def hidden_said(self, d: _Draft, unseen: Sequence[str]) -> _Draft:
+        """``d`` saying that the parts ``unseen``, drawn as boxes, have no outlines to trace
+        (a read-through: the chair's part 5 was built, then never named again)."""
         names = [self.say(p) for p in unseen]
         said = ((spec("hidden_part", Part=_cap(names[0])),) if len(names) == 1 else
                 (spec("hidden_parts", Parts=_cap(_join(names))),) if names else ())
-        return replace(d, specs=d.specs + said + (
-            spec("erase_boxes" if basic else "erase_scaffold"),))
+        return replace(d, specs=d.specs + said)
+
+    def finish(self, d: _Draft, basic: bool = False, unseen: Sequence[str] = ()) -> _Draft:
+        """The tutorial's last step, with its last sub-steps: the parts drawn as boxes that
+        the finished drawing hides, said to have no outlines (:meth:`hidden_said`; where
+        they do not fit, an outline step before says them: :meth:`pack_outlines`), and erase
+        the boxes and guides round the outlines (a read-through: no step said so, and the
+        finished drawing kept its scaffold); the control tutorial (``basic``) has boxes only,
+        and no word of guides."""
+        d = self.hidden_said(d, unseen)
+        return replace(d, specs=d.specs + (spec("erase_boxes" if basic else "erase_scaffold"),))
 
     def _packed(self, drafts: Sequence[_Draft], lead: Mapping[str, str]) -> list[_Draft]:
         out: list[_Draft] = []

@@ -773,6 +773,24 @@ def _on_line(p: Any, a: Any, b: Any, tol: float) -> bool:
     return n > 0.0 and float(np.linalg.norm(np.cross(d, w))) <= tol * n
 
 
+def _segments_cross(a: Any, b: Any, p: Any, q: Any, tol: float) -> bool:
+    """Do the segments ``a``-``b`` and ``p``-``q`` meet (their nearest points within ``tol``
+    of each other), not running along one line?"""
+    a_, p_ = np.asarray(a, dtype=float), np.asarray(p, dtype=float)
+    d, e = np.asarray(b, dtype=float) - a_, np.asarray(q, dtype=float) - p_
+    n = np.cross(d, e)
+    nn = float(np.dot(n, n))
+    if nn <= (1e-9 * float(np.linalg.norm(d)) * float(np.linalg.norm(e))) ** 2:
+        return False  # parallel
+    w = p_ - a_
+    s = float(np.dot(np.cross(w, e), n)) / nn  # the nearest points: a + s d, p + t e
+    t = float(np.dot(np.cross(w, d), n)) / nn
+    ld, le = float(np.linalg.norm(d)), float(np.linalg.norm(e))
+    if not (-tol <= s * ld <= ld + tol and -tol <= t * le <= le + tol):
+        return False
+    return float(np.linalg.norm((a_ + s * d) - (p_ + t * e))) <= tol
+
+
 def _near_segment(p: Any, a: Any, b: Any, reach: float) -> bool:
     """Is ``p`` inside the box of segment ``a``-``b`` grown by ``reach``?  A point within
     ``tol`` of the segment is (:func:`_on_segment`, for any ``reach`` of ``2 tol``, well beyond
