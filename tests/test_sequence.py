@@ -4213,6 +4213,8 @@ def test_copies_said_directly_beside_the_part_come_first_and_no_text_has_an_empt
     # the chimney's middle lines and half-face extension, one unit of six sub-steps: cut in
     # two guides steps, each drawing the lines whose ends it names
     ("configs/train.yaml", -170, 25, "three-point", "split"),
+    # wheel 5 placed by eye, its six copies where the picture shows them
+    ("configs/train.yaml", 100, 35, "three-point", "copies"),
 ])
 def test_views_nobody_tuned_keep_every_step_within_the_word_limit(
         shared_models, config, azimuth, elevation, perspective, expect):
@@ -4273,6 +4275,13 @@ def test_views_nobody_tuned_keep_every_step_within_the_word_limit(
                 for k in moved:
                     assert abs(cross[k] - box[:, k].mean()) <= 1e-6 * np.ptp(box), (x, k)
                 checked.add("cross")
+        for x in s.substeps:
+            m = re.fullmatch(r"(.+?) and (\d+) more: the same box, where the picture shows them\.",
+                             x)
+            if m:  # the step draws its part and n + 1 copies
+                assert s.kind == "primitive"
+                assert len({st.part for st in s.strokes}) == int(m.group(2)) + 2
+                checked.add("copies")
         m = re.match(r"(.+?) and (\d+) more: ", s.headline)
         if m:
             assert s.kind == "ellipse"

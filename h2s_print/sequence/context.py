@@ -787,9 +787,21 @@ class _Context(_Repeats, _Ellipses):
         if self.fits_levels(specs, headline):
             return list(specs)
         # over the step's words with where the copies lie: where the picture shows them
-        return [spec("repeat_free" if dict(x.fields)["many"] else "repeat_free_one", x.same,
-                     x.pair, parts=dict(x.fields)["parts"], shape=dict(x.fields)["shape"])
+        free = [spec("repeat_free" if dict(x.fields)["many"] else "repeat_free_one", x.same,
+                     x.pair, parts=dict(x.fields)["parts"], shape=dict(x.fields)["shape"],
+                     names=dict(x.fields)["names"])
                 if x.key == "repeat" else x for x in specs]
+        if self.fits_levels(free, headline):
+            return free
+        # ... and over it still, many copies named by the first and a count ("Wheel 2 and 5
+        # more: the same box, where the picture shows them": the train's wheels placed by
+        # eye from the right, 77 words a step)
+        return [spec(x.key, x.same, x.pair, **{**dict(x.fields), "parts": _cap(
+                    templates.plural("steps", "headline.and_more",
+                                     len(dict(x.fields)["names"]) - 1,
+                                     Part=dict(x.fields)["names"][0]))})
+                if x.key == "repeat_free" and len(dict(x.fields)["names"]) > 2 else x
+                for x in free]
 
     def fits_levels(self, specs: Sequence[Spec], headline: str) -> bool:
         """Does a step of these sub-steps keep within :data:`MAX_STEP_WORDS` at novice and at

@@ -160,13 +160,14 @@ class _Repeats:
                 pictured = ("repeat_pictured" if len(qs) > 1 else "repeat_pictured_one") \
                     if open_ else ""
                 out.append(spec("repeat", parts=who, shape=shape, where=where,
-                                pictured=pictured, many=len(qs) > 1))
+                                pictured=pictured, many=len(qs) > 1,
+                                names=tuple(self.say(q) for q in qs)))
             elif (corner := self.at_corners(first, qs)) is not None:
                 out.append(spec("repeat_corners" if len(qs) > 1 else "repeat_corners_one",
                                 parts=who, shape=shape, parent=self.say(corner)))
             else:
                 out.append(spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
-                                shape=shape))
+                                shape=shape, names=tuple(self.say(q) for q in qs)))
         # a copy "directly to its left" first, next to the part "its" is (the oven's "Button
         # 4: the same box, directly to its left." after "Button 1, button 2 and button 3:
         # ..." read as button 3's left, a read-through)
