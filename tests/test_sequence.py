@@ -4328,3 +4328,45 @@ def test_a_part_placed_by_eye_says_sides_in_line_with_one_part_at_once():
                 assert abs(boxes[s.part][end, axis] - other[end, axis]) <= 1e-6
             found += 1
     assert found
+
+
+@pytest.mark.parametrize("model", ["desk_fredrik", "box_ivar"])
+def test_a_copy_said_mirrored_is_its_first_mirrored_across_that_parts_middle(
+        shared_models, model):
+    """A read-through: the desk's second foot was said only where it lies front to back, the
+    IVAR box's second side "where the picture shows it"; each is its first part mirrored
+    across the middle of the part the first hangs off.  "Part 7: the same box, mirrored left
+    to right across the middle of part 1." is checked against the boxes: a part the step
+    draws is the step's part mirrored across the middle of a part along that direction, and
+    the same box along the other two."""
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+    from h2s_print.templates import lookup
+
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
+                      / f"{model}.yaml")
+    plan = build_plan(t.model, t.solver, t.views)
+    boxes = {c.part: np.asarray(c.box, dtype=float) for c in plan.chosen().values()}
+    directions = lookup("steps", "directions")
+    said = 0
+    for view in t.views:
+        for level in ("novice", "master"):
+            vp = seq.sequence_view(plan, view, level, t.paper, t.sequence)
+            for s in vp.steps:
+                for m in re.finditer(r": the same box, mirrored (.+?) across the middle of ",
+                                     " ".join(s.substeps) + " " + s.summary):
+                    k = directions.index(m.group(1))
+                    a = boxes[s.part]
+                    drawn = {st.part for st in s.strokes} - {s.part}
+                    tol = 1e-6 * float(np.ptp(np.vstack(list(boxes.values()))))
+
+                    def mirror_of(q: str, o: str) -> bool:
+                        b, mid = boxes[q], boxes[o][:, k].mean()
+                        return (abs(b[0, k] - (2 * mid - a[1, k])) <= 10 * tol
+                                and abs(b[1, k] - (2 * mid - a[0, k])) <= 10 * tol
+                                and all(np.abs(b[:, j] - a[:, j]).max() <= 10 * tol
+                                        for j in range(3) if j != k))
+                    assert any(mirror_of(q, o) for q in drawn for o in boxes), (s.text, k)
+                    said += 1
+    assert said >= 2

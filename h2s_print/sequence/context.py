@@ -780,28 +780,75 @@ class _Context(_Repeats, _Ellipses):
         part 1's depth, otherwise as pictured."; a read-through found nothing saying where
         along the desk), where the step has room: a size sentence is worth more.  Where the
         copies' words do not fit the step at all, they lie where the picture shows them."""
+        def mirrored(chosen: list[Spec]) -> list[Spec]:
+            # copies mirrored across a part's middle said so where the step has room: those
+            # placed where the picture shows them, and those whose words leave an axis to the
+            # picture (a read-through: the desk's second foot, said only where it lies front
+            # to back; the IVAR box's second side "where the picture shows it")
+            out: list[Spec] = []
+            for x in chosen:
+                f = dict(x.fields)
+                if x.key.startswith(("repeat_free", "repeat")) and f.get("mirror") and (
+                        x.key.startswith("repeat_pictured") or f.get("pictured")):
+                    out.append(spec("repeat_mirror", x.same, x.pair, parts=f["parts"],
+                                    shape=f["shape"], parent=f["mirror"][0],
+                                    directions=f["mirror"][1], names=f["names"]))
+                elif x.key.startswith("repeat_free") and any(f.get("mirrors", ())):
+                    rest = [n for n, m in zip(f["names"], f["mirrors"]) if m is None]
+                    out += [spec("repeat_mirror", x.same, x.pair, parts=_cap(n),
+                                 shape=f["shape"], parent=m[0], directions=m[1], names=(n,))
+                            for n, m in zip(f["names"], f["mirrors"]) if m is not None]
+                    if rest:
+                        out.append(spec("repeat_free" if len(rest) > 1 else "repeat_free_one",
+                                        x.same, x.pair, parts=_cap(_join(rest)),
+                                        shape=f["shape"], names=tuple(rest),
+                                        mirrors=(None,) * len(rest)))
+                else:
+                    out.append(x)
+            return out
+
+        def best(chosen: list[Spec]) -> list[Spec]:
+            up = mirrored(chosen)
+            return up if up != chosen and self.fits_levels(up, headline) else chosen
+
         said = [spec(dict(x.fields)["pictured"], x.same, x.pair, **dict(x.fields))
                 if x.key == "repeat" and dict(x.fields).get("pictured") else x for x in specs]
         if said != list(specs) and self.fits_levels(said, headline):
-            return said
+            return best(said)
         if self.fits_levels(specs, headline):
-            return list(specs)
-        # over the step's words with where the copies lie: where the picture shows them
-        free = [spec("repeat_free" if dict(x.fields)["many"] else "repeat_free_one", x.same,
-                     x.pair, parts=dict(x.fields)["parts"], shape=dict(x.fields)["shape"],
-                     names=dict(x.fields)["names"])
-                if x.key == "repeat" else x for x in specs]
+            return best(list(specs))
+        # over the step's words with where the copies lie: where the picture shows them, or
+        # mirrored across a part's middle where they are and the step has room
+        free = [spec("repeat_free" if f["many"] else "repeat_free_one", x.same, x.pair,
+                     parts=f["parts"], shape=f["shape"], names=f["names"],
+                     mirrors=(f["mirror"] or None,) if len(f["names"]) == 1
+                     else (None,) * len(f["names"]))
+                if x.key == "repeat" else x for x in specs for f in (dict(x.fields),)]
         if self.fits_levels(free, headline):
-            return free
-        # ... and over it still, many copies named by the first and a count ("Wheel 2 and 5
-        # more: the same box, where the picture shows them": the train's wheels placed by
-        # eye from the right, 77 words a step)
-        return [spec(x.key, x.same, x.pair, **{**dict(x.fields), "parts": _cap(
-                    templates.plural("steps", "headline.and_more",
-                                     len(dict(x.fields)["names"]) - 1,
-                                     Part=dict(x.fields)["names"][0]))})
-                if x.key == "repeat_free" and len(dict(x.fields)["names"]) > 2 else x
-                for x in free]
+            return best(free)
+
+        def counted(specs: list[Spec]) -> list[Spec]:
+            # many copies named by the first and a count ("Wheel 2 and 5 more: the same box,
+            # where the picture shows them": the train's wheels placed by eye from the
+            # right, 77 words a step)
+            return [spec(x.key, x.same, x.pair, **{**dict(x.fields), "parts": _cap(
+                        templates.plural("steps", "headline.and_more",
+                                         len(dict(x.fields)["names"]) - 1,
+                                         Part=dict(x.fields)["names"][0]))})
+                    if x.key == "repeat_free" and len(dict(x.fields)["names"]) > 2 else x
+                    for x in specs]
+
+        out = counted(free)
+        loose = [x for x in out if x.key in ("repeat_free", "repeat_free_one", "repeat_mirror")]
+        if self.fits_levels(out, headline) or len(loose) < 2:
+            return out
+        # ... and over it still: the mirrored copies too where the picture shows them, with
+        # the others (the train's wheel 5 from the right: 78 words with two mirrored wheels)
+        names = sorted({n for x in loose for n in dict(x.fields)["names"]}, key=natural_key)
+        at = out.index(loose[0])
+        merged = spec("repeat_free", parts=_cap(_join(names)), shape=dict(loose[0].fields)["shape"],
+                      names=tuple(names))
+        return counted(out[:at] + [merged] + [x for x in out[at:] if x not in loose])
 
     def fits_levels(self, specs: Sequence[Spec], headline: str) -> bool:
         """Does a step of these sub-steps keep within :data:`MAX_STEP_WORDS` at novice and at

@@ -142,6 +142,12 @@ class _Repeats:
             shift = self.near_shift(first, q) if first is not None and not whole[q] else None
             key = places[q] if shift is None else "\0" + shift
             by_where.setdefault(key, []).append(q)
+
+        def mirror(q: str) -> tuple[str, str] | None:
+            # (said where the step has room: _Context.copies_pictured)
+            got = self.mirrored(first, q) if first is not None else None
+            return None if got is None else (self.say(got[0]), _raw("directions")[got[1]])
+
         out = []
         for where, qs in by_where.items():
             who = _cap(_join([self.say(q) for q in qs]))
@@ -154,20 +160,22 @@ class _Repeats:
                 # nothing of where along the desk)
                 # (said where the step has room: _Context.copies_pictured)
                 # (a copy said by its moved axes only lies as ``first`` on the others)
-                open_ = any({a.axis for a in said} != {0, 1, 2}
-                            and len(said) == len(self.chosen[q].anchors)
-                            for q in qs for said in (self.copy_anchors(q, first),))
+                open_ = any(self.open_axes(q, first) for q in qs)
                 pictured = ("repeat_pictured" if len(qs) > 1 else "repeat_pictured_one") \
                     if open_ else ""
+                # (mirrored across a part's middle: said so where the words leave an axis to
+                # the picture or have no room)
                 out.append(spec("repeat", parts=who, shape=shape, where=where,
                                 pictured=pictured, many=len(qs) > 1,
-                                names=tuple(self.say(q) for q in qs)))
+                                names=tuple(self.say(q) for q in qs),
+                                mirror=(mirror(qs[0]) or ()) if len(qs) == 1 else ()))
             elif (corner := self.at_corners(first, qs)) is not None:
                 out.append(spec("repeat_corners" if len(qs) > 1 else "repeat_corners_one",
                                 parts=who, shape=shape, parent=self.say(corner)))
             else:
                 out.append(spec("repeat_free" if len(qs) > 1 else "repeat_free_one", parts=who,
-                                shape=shape, names=tuple(self.say(q) for q in qs)))
+                                shape=shape, names=tuple(self.say(q) for q in qs),
+                                mirrors=tuple(mirror(q) for q in qs)))
         # a copy "directly to its left" first, next to the part "its" is (the oven's "Button
         # 4: the same box, directly to its left." after "Button 1, button 2 and button 3:
         # ..." read as button 3's left, a read-through)
@@ -196,6 +204,33 @@ class _Repeats:
             else:
                 if len(at) == len(parts):
                     return other
+        return None
+
+    def open_axes(self, q: str, first: str | None) -> bool:
+        """Do copy ``q``'s words (:meth:`copy_anchors`) leave an axis to the picture: all its
+        anchors said, and not on every axis?"""
+        said = self.copy_anchors(q, first)
+        return {a.axis for a in said} != {0, 1, 2} and len(said) == len(self.chosen[q].anchors)
+
+    def mirrored(self, first: str, q: str) -> tuple[str, int] | None:
+        """(a part ``first`` hangs off, an axis) when copy ``q``'s box is ``first``'s mirrored
+        across that part's middle along the axis, the same on the other axes, or None: "Part
+        7: the same box, mirrored left to right across the middle of part 1." (a read-through:
+        the desk's second foot said only where it lies front to back, and the IVAR box's
+        second side "where the picture shows it"; a side, a foot, a dowel across the middle
+        of what carries it is where a drawing teacher would say it is)."""
+        a = np.asarray(self.chosen[first].box, dtype=float)
+        b = np.asarray(self.chosen[q].box, dtype=float)
+        tol = 10.0 * self.tol
+        moved = [k for k in range(3) if np.abs(a[:, k] - b[:, k]).max() > tol]
+        if len(moved) != 1:
+            return None
+        k = moved[0]
+        for other in sorted(self.parents_of(first)):
+            o = np.asarray(self.chosen[other].box, dtype=float)
+            mid = 0.5 * (o[0, k] + o[1, k])
+            if abs(2 * mid - a[1, k] - b[0, k]) <= tol and abs(2 * mid - a[0, k] - b[1, k]) <= tol:
+                return other, k
         return None
 
     def near_shift(self, first: str, q: str) -> str | None:
