@@ -4370,3 +4370,37 @@ def test_a_copy_said_mirrored_is_its_first_mirrored_across_that_parts_middle(
                     assert any(mirror_of(q, o) for q in drawn for o in boxes), (s.text, k)
                     said += 1
     assert said >= 2
+
+
+def test_a_part_placed_by_eye_says_both_ends_extended_alike_at_once():
+    """From the side (a view nobody tuned) the mixer's bowl is placed by eye, and said "Put
+    its left side about half a column width to the left of the column's left side. Put its
+    right side about half a column width to the right of ..." (109 words a step): both ends
+    of an axis extended alike beyond one part are one sentence, checked against the boxes:
+    each end lies that share of the part's extent beyond the part's side."""
+    from h2s_print import sequence as seq
+    from h2s_print.config import ViewSpec, load_tutorial
+    from h2s_print.plan import build_plan
+
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "configs" / "mixer.yaml")
+    view = ViewSpec("swept", -90, 12, t.views[0].distance, 50.0, "two-point")
+    plan = build_plan(t.model, t.solver, (view,))
+    vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+    boxes = {c.part: np.asarray(c.box, dtype=float) for c in plan.chosen().values()}
+    dims = {"width": 0, "depth": 1, "height": 2}
+    amounts = {"half a": 0.5, "one": 1.0}
+    found = 0
+    for s in vp.steps:
+        for x in s.substeps:
+            m = re.fullmatch(r"Put its (.+) and (.+) about (half a|one) (\w+) (width|depth|height)"
+                             r" beyond the (\w+)'s, one on each side\.", x)
+            if not m:
+                continue
+            k = dims[m.group(5)]
+            assert m.group(4) == m.group(6)
+            me, other = boxes[s.part], boxes[m.group(6)]
+            extra = amounts[m.group(3)] * np.ptp(other[:, k])
+            assert abs(other[0, k] - extra - me[0, k]) <= 1e-6
+            assert abs(other[1, k] + extra - me[1, k]) <= 1e-6
+            found += 1
+    assert found
