@@ -53,7 +53,7 @@ FIELDS: dict[str, frozenset[str]] = {
         "Part", "Parts", "about", "amount", "beyond", "counts", "dim", "dims", "directions", "edge",
         "edges", "end", "face", "faces", "first", "fraction", "fractions", "half", "hi", "index",
         "kind", "label", "large", "line", "line2", "lines", "lines2", "lo", "n", "near", "new",
-        "nth", "other", "other2", "parent", "part", "parts", "point", "point2", "points",
+        "nth", "other", "other2", "others", "parent", "part", "parts", "point", "point2", "points",
         "position", "pside", "psides", "reused", "second", "shape", "shift", "side", "sides",
         "small", "start", "step", "text", "the_other", "the_others", "the_parent", "the_parents",
         "the_part", "through", "total", "turns", "turns2", "vp", "vp2", "vp3", "vp4", "where", "words")),

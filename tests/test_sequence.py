@@ -3181,6 +3181,8 @@ def test_a_carry_says_what_each_of_its_lines_places(examples, shared_models):
                 if not re.match(r"(?:Carry|Extend) ", x) or " for its " not in x:
                     continue
                 chunks = x.split(" for its ")
+                # ("Carry XY from A on LM ...": LM, the line crossing XY at A, places nothing)
+                chunks[0] = re.sub(r" from [A-Z]'* on (?:[A-Z]'*){2}(?![A-Z'])", "", chunks[0])
                 pairs = []  # (lines, sides said after them)
                 lines = re.findall(token, chunks[0])
                 # "Extend GF to NP, meeting it at R; from R, draw RS ...": RS places

@@ -5,7 +5,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, Iterable, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 
@@ -1719,6 +1719,14 @@ class _Context(_Repeats, _Ellipses):
                               for r, c in zip(runs, corners[axis, turn])]
                         key = (("carry_from_walk" if key == "carry_walk" else "carry_from")
                                if all(on) else "extend" + key[len("carry"):])
+                        # ... and the line drawn that crosses it there, said (a read-through:
+                        # "Carry XY from V' ..." where nothing said V' is where G'K' crosses)
+                        crossing = self.crossing_lines(
+                            runs, corners[axis, turn], units, drawn,
+                            walk_lines.get((axis, turn), []), walk_boxes.get((axis, turn), []))
+                        if all(on) and crossing is not None:
+                            key = key.replace("carry_from", "carry_on")
+                            to = dict(to, others=crossing)
                     elif (axis, turn) in starts and key == "carry_turn":  # said where it starts
                         to = dict(to, turns2=Many(tuple(corners[axis, turn])),
                                   vp3=words.vp(turn, *legs[axis, turn][-1]))
@@ -2139,6 +2147,32 @@ class _Context(_Repeats, _Ellipses):
             groups = [g for g in groups if g not in idle]
             tail = [u for g in idle for u in g] + tail
         return groups + [tail]
+
+    def crossing_lines(self, runs: Sequence[Pts], turns: Sequence[Pts],
+                       units: Mapping[Any, "_Unit"], drawn: Sequence[str],
+                       lines: Sequence[tuple[Vec3, Vec3, int]], boxes: Sequence[str]
+                       ) -> Many | None:
+        """The lines on the paper that cross each of ``runs`` at its turn (a walked carry's
+        first turn on its own line), one per turn, or None where one has none: this step's
+        lines first (lettered already), then the earlier lines and boxes the walk turns on,
+        then the edges of the parts drawn before."""
+        paper = ([(ln.start, ln.end) for u in units.values() for ln in u.lines
+                  if ln.role != "construction"]
+                 + [(a, b) for a, b, _ in lines]
+                 + [(ln.start, ln.end) for other in boxes for ln in self.box_around(other)]
+                 + [(p, q) for other in drawn for p, q in self.scaffold_ends(other)])
+        tol = 10.0 * self.tol
+        found: list[Pts] = []
+        for run, at in zip(runs, turns):
+            c = at.points[0]
+            got = next((Pts((p, q)) for p, q in paper if _on_segment(c, p, q, tol)
+                        and not (_on_line(p, *run.points, tol) and _on_line(q, *run.points, tol))),
+                       None)
+            if got is None:
+                return None
+            if not any(_same_segment(*got.points, *f.points, self.tol) for f in found):
+                found.append(got)
+        return Many(tuple(found))
 
     def split_unit(self, u: "_Unit", guides_head: Callable[[list["_Unit"]], str]
                    ) -> list["_Unit"]:

@@ -223,6 +223,7 @@ _CARRIES = tuple(key + suffix for key in (
     "carry", "carry_to", "carry_two", "carry_turn", "carry_turn_eye", "carry_turn_to",
     "carry_turn_eye_to", "carry_walk", "carry_walk_to", "extend_turn", "extend_turn_to", "extend_walk",
     "extend_walk_to", "carry_from", "carry_from_to", "carry_from_walk", "carry_from_walk_to",
+    "carry_on", "carry_on_to", "carry_on_walk", "carry_on_walk_to",
     "extend_to", "carry_meet", "carry_meet_on", "carry_meet_edge",
     "carry_two_meet",
     "cross_carry", "cross_on") for suffix in ("", "_for"))
