@@ -4252,10 +4252,19 @@ def test_views_nobody_tuned_keep_every_step_within_the_word_limit(
             point = re.match(r"Through ([A-Z]'?),", after.substeps[0]).group(1)
             assert any(re.search(rf"crossing at {point}\b", x) for x in s.substeps)
             named = [np.asarray(lb.at3d, dtype=float) for lb in s.labels]
+            later = [np.asarray(lb.at3d, dtype=float) for lb in after.labels]
+            kept = {g.id for g in after.guides}
             for g in s.guides:
                 if g.status == "new":
                     for end in (g.from3d, g.to3d):
                         assert min(np.abs(np.asarray(end) - q).max() for q in named) <= 1e-6
+                    # a line the next step starts from is still on its picture (a
+                    # read-through: "Through M, ..." after M's diagonals were offered to erase)
+                    a, b = np.asarray(g.from3d, dtype=float), np.asarray(g.to3d, dtype=float)
+                    if any(np.linalg.norm(np.cross(b - a, q - a)) <= 1e-6 * np.dot(b - a, b - a)
+                           and -1e-9 <= np.dot(q - a, b - a) <= np.dot(b - a, b - a) + 1e-9
+                           for q in later):
+                        assert g.id in kept, (s.index, g.id)
             checked.add("split")
     for s in vp.steps:
         at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}

@@ -130,22 +130,22 @@ def _tiny_loop(mm: np.ndarray) -> bool:
 
 #: A box's faces as corner indices of :func:`_box_corners` (each a loop).
 _BOX_FACES = ((0, 1, 3, 2), (4, 5, 7, 6), (0, 1, 5, 4), (2, 3, 7, 6), (0, 2, 6, 4), (1, 3, 7, 5))
+_FACE_INDEX = np.array(_BOX_FACES)
 
 
 def _covers(corners_mm: np.ndarray, points_mm: np.ndarray) -> np.ndarray:
     """Which of ``points_mm`` (n, 2) lie inside the sheet picture of a box, given its eight
-    corners' projections (8, 2) in :func:`_box_corners`' order: a box's picture is the union
-    of its faces' pictures, each a convex quadrilateral (strictly inside, so a flat box
-    covers nothing)."""
+    corners' projections (8, 2) in :func:`_box_corners`' order, or of any of several boxes
+    (k, 8, 2): a box's picture is the union of its faces' pictures, each a convex
+    quadrilateral (strictly inside, so a flat box covers nothing)."""
     pts = np.asarray(points_mm, dtype=float).reshape(-1, 2)
-    inside = np.zeros(len(pts), dtype=bool)
-    for face in _BOX_FACES:
-        quad = corners_mm[list(face)]
-        edge = np.roll(quad, -1, axis=0) - quad  # (4, 2)
-        rel = pts[:, None, :] - quad[None, :, :]  # (n, 4, 2)
-        cross = edge[None, :, 0] * rel[:, :, 1] - edge[None, :, 1] * rel[:, :, 0]
-        inside |= (cross > 1e-9).all(axis=1) | (cross < -1e-9).all(axis=1)
-    return inside
+    boxes = np.asarray(corners_mm, dtype=float).reshape(-1, 8, 2)
+    quads = boxes[:, _FACE_INDEX]  # (k, 6, 4, 2)
+    edge = np.roll(quads, -1, axis=2) - quads
+    rel = pts[None, None, None, :, :] - quads[:, :, :, None, :]  # (k, 6, 4, n, 2)
+    cross = edge[..., None, 0] * rel[..., 1] - edge[..., None, 1] * rel[..., 0]  # (k, 6, 4, n)
+    inside = (cross > 1e-9).all(axis=2) | (cross < -1e-9).all(axis=2)  # (k, 6, n)
+    return inside.any(axis=(0, 1))
 
 
 def _sheet_polygon(camera: Camera, corners: Sequence[Vec3]) -> tuple[float, float]:
