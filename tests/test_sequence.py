@@ -4346,39 +4346,68 @@ def test_a_copy_said_mirrored_is_its_first_mirrored_across_that_parts_middle(
         shared_models, model):
     """A read-through: the desk's second foot was said only where it lies front to back, the
     IVAR box's second side "where the picture shows it"; each is its first part mirrored
-    across the middle of the part the first hangs off.  "Part 7: the same box, mirrored left
-    to right across the middle of part 1." is checked against the boxes: a part the step
-    draws is the step's part mirrored across the middle of a part along that direction, and
-    the same box along the other two."""
+    across the middle of the part the first hangs off, said from that part's sides where the
+    step has room ("Part 4: the same box, its middle on part 2's right side."; "as far in from
+    part 1's right side as part 6 is from its left side"; "its right side in line with part
+    1's"), else "mirrored left to right across part 1's middle".  Each is checked against
+    the boxes: a part the step draws is the step's part mirrored across a part's middle along
+    that axis, the same box on the other two, and where the sentence names a side, the copy
+    lies at it as said."""
     from h2s_print import sequence as seq
     from h2s_print.config import load_tutorial
     from h2s_print.plan import build_plan
     from h2s_print.templates import lookup
+    from conftest import side_names
 
     t = load_tutorial(Path(__file__).resolve().parents[1] / "benchmarks" / "configs"
                       / f"{model}.yaml")
     plan = build_plan(t.model, t.solver, t.views)
     boxes = {c.part: np.asarray(c.box, dtype=float) for c in plan.chosen().values()}
     directions = lookup("steps", "directions")
+    tol = 1e-5 * float(np.ptp(np.vstack(list(boxes.values()))))
     said = 0
     for view in t.views:
-        for level in ("novice", "master"):
-            vp = seq.sequence_view(plan, view, level, t.paper, t.sequence)
-            for s in vp.steps:
-                for m in re.finditer(r": the same box, mirrored (.+?) across the middle of ",
-                                     " ".join(s.substeps) + " " + s.summary):
-                    k = directions.index(m.group(1))
+        names = side_names(t, plan, view)
+        side_re = "|".join(re.escape(w) for w in sorted(names, key=len, reverse=True))
+        forms = [
+            (r"mirrored (.+?) across .+?'s middle\.", lambda m: (directions.index(m[1]), None)),
+            (rf"its middle on .+?'s ({side_re})\.", lambda m: (names[m[1]][0], ("mid",) + names[m[1]])),
+            (rf"its ({side_re}) in line with .+?'s\.", lambda m: (names[m[1]][0], ("flush",) + names[m[1]])),
+            (rf"as far in from .+?'s ({side_re}) as .+? is from its ({side_re})\.",
+             lambda m: (names[m[1]][0], ("in",) + names[m[1]])),
+        ]
+        vp = seq.sequence_view(plan, view, "novice", t.paper, t.sequence)
+        for s in vp.steps:
+            for x in s.substeps:
+                if ": the same box, " not in x:
+                    continue
+                for pattern, read in forms:
+                    m = re.search(pattern, x)
+                    if not m:
+                        continue
+                    k, at = read(m)
                     a = boxes[s.part]
                     drawn = {st.part for st in s.strokes} - {s.part}
-                    tol = 1e-6 * float(np.ptp(np.vstack(list(boxes.values()))))
 
-                    def mirror_of(q: str, o: str) -> bool:
-                        b, mid = boxes[q], boxes[o][:, k].mean()
-                        return (abs(b[0, k] - (2 * mid - a[1, k])) <= 10 * tol
-                                and abs(b[1, k] - (2 * mid - a[0, k])) <= 10 * tol
-                                and all(np.abs(b[:, j] - a[:, j]).max() <= 10 * tol
-                                        for j in range(3) if j != k))
-                    assert any(mirror_of(q, o) for q in drawn for o in boxes), (s.text, k)
+                    def fits(q: str, o: str) -> bool:
+                        b, c = boxes[q], boxes[o]
+                        mid = c[:, k].mean()
+                        if not (abs(b[0, k] - (2 * mid - a[1, k])) <= tol
+                                and abs(b[1, k] - (2 * mid - a[0, k])) <= tol
+                                and all(np.abs(b[:, j] - a[:, j]).max() <= tol
+                                        for j in range(3) if j != k)):
+                            return False
+                        if at is None:
+                            return True
+                        how, _, end = at
+                        e = 0 if end == "lo" else 1
+                        if how == "mid":
+                            return abs(b[:, k].mean() - c[e, k]) <= tol
+                        if how == "flush":
+                            return abs(b[e, k] - c[e, k]) <= tol
+                        inside = c[0, k] - tol <= b[0, k] and b[1, k] <= c[1, k] + tol
+                        return inside and abs(b[e, k] - c[e, k]) > tol
+                    assert any(fits(q, o) for q in drawn for o in boxes), (s.text, x)
                     said += 1
     assert said >= 2
 

@@ -781,23 +781,27 @@ class _Context(_Repeats, _Ellipses):
         part 1's depth, otherwise as pictured."; a read-through found nothing saying where
         along the desk), where the step has room: a size sentence is worth more.  Where the
         copies' words do not fit the step at all, they lie where the picture shows them."""
-        def mirrored(chosen: list[Spec]) -> list[Spec]:
+        def mirrored(chosen: list[Spec], short: bool = False) -> list[Spec]:
             # copies mirrored across a part's middle said so where the step has room: those
             # placed where the picture shows them, and those whose words leave an axis to the
             # picture (a read-through: the desk's second foot, said only where it lies front
-            # to back; the IVAR box's second side "where the picture shows it")
+            # to back; the IVAR box's second side "where the picture shows it"); from the
+            # part's sides (repeats.mirror_words), or, ``short``, as mirrored across its middle
+            def said(m: tuple) -> tuple[str, dict]:
+                return ("repeat_mirror_short", dict(m[2])) if short else (m[0], dict(m[1]))
+
             out: list[Spec] = []
             for x in chosen:
                 f = dict(x.fields)
                 if x.key.startswith(("repeat_free", "repeat")) and f.get("mirror") and (
                         x.key.startswith("repeat_pictured") or f.get("pictured")):
-                    out.append(spec("repeat_mirror", x.same, x.pair, parts=f["parts"],
-                                    shape=f["shape"], parent=f["mirror"][0],
-                                    directions=f["mirror"][1], names=f["names"]))
+                    key, fields = said(f["mirror"])
+                    out.append(spec(key, x.same, x.pair, parts=f["parts"], shape=f["shape"],
+                                    names=f["names"], **fields))
                 elif x.key.startswith("repeat_free") and any(f.get("mirrors", ())):
                     rest = [n for n, m in zip(f["names"], f["mirrors"]) if m is None]
-                    out += [spec("repeat_mirror", x.same, x.pair, parts=_cap(n),
-                                 shape=f["shape"], parent=m[0], directions=m[1], names=(n,))
+                    out += [spec(said(m)[0], x.same, x.pair, parts=_cap(n), shape=f["shape"],
+                                 names=(n,), **said(m)[1])
                             for n, m in zip(f["names"], f["mirrors"]) if m is not None]
                     if rest:
                         out.append(spec("repeat_free" if len(rest) > 1 else "repeat_free_one",
@@ -809,8 +813,11 @@ class _Context(_Repeats, _Ellipses):
             return out
 
         def best(chosen: list[Spec]) -> list[Spec]:
-            up = mirrored(chosen)
-            return up if up != chosen and self.fits_levels(up, headline) else chosen
+            for short in (False, True):
+                up = mirrored(chosen, short)
+                if up != chosen and self.fits_levels(up, headline):
+                    return up
+            return chosen
 
         said = [spec(dict(x.fields)["pictured"], x.same, x.pair, **dict(x.fields))
                 if x.key == "repeat" and dict(x.fields).get("pictured") else x for x in specs]
@@ -840,7 +847,8 @@ class _Context(_Repeats, _Ellipses):
                     for x in specs]
 
         out = counted(free)
-        loose = [x for x in out if x.key in ("repeat_free", "repeat_free_one", "repeat_mirror")]
+        loose = [x for x in out if x.key in ("repeat_free", "repeat_free_one")
+                 or x.key.startswith("repeat_mirror")]
         if self.fits_levels(out, headline) or len(loose) < 2:
             return out
         # ... and over it still: the mirrored copies too where the picture shows them, with

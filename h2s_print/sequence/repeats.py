@@ -143,10 +143,9 @@ class _Repeats:
             key = places[q] if shift is None else "\0" + shift
             by_where.setdefault(key, []).append(q)
 
-        def mirror(q: str) -> tuple[str, str] | None:
+        def mirror(q: str) -> tuple[str, tuple, tuple] | None:
             # (said where the step has room: _Context.copies_pictured)
-            got = self.mirrored(first, q) if first is not None else None
-            return None if got is None else (self.say(got[0]), _raw("directions")[got[1]])
+            return self.mirror_words(first, q) if first is not None else None
 
         out = []
         for where, qs in by_where.items():
@@ -232,6 +231,38 @@ class _Repeats:
             if abs(2 * mid - a[1, k] - b[0, k]) <= tol and abs(2 * mid - a[0, k] - b[1, k]) <= tol:
                 return other, k
         return None
+
+    def mirror_words(self, first: str, q: str) -> tuple[str, tuple, tuple] | None:
+        """How copy ``q``, ``first`` mirrored across a part's middle (:meth:`mirrored`), is
+        said: (template key, its fields, the fields of the shorter "mirrored left to right
+        across part 1's middle") from where ``first`` lies at that part's side
+        nearer it: its middle on the side ("its middle in line with part 2's right side"),
+        its outer side in line with it ("its right side in line with part 1's"), or in from
+        it or out beyond it ("as far in from part 1's right side as part 6 is from its left
+        side").  A read-through: "mirrored ... across the middle of part 1" left the reader
+        to find that middle, drawn nowhere yet, and to mirror on the floor."""
+        got = self.mirrored(first, q)
+        if got is None:
+            return None
+        other, k = got
+        a = np.asarray(self.chosen[first].box, dtype=float)
+        o = np.asarray(self.chosen[other].box, dtype=float)
+        near = "lo" if a[:, k].mean() < o[:, k].mean() else "hi"
+        far = "hi" if near == "lo" else "lo"
+        s = o[0 if near == "lo" else 1, k]  # the parent's side nearer ``first``
+        outer = a[0 if near == "lo" else 1, k]  # first's side facing it
+        tol = 10.0 * self.tol
+        fields = {"parent": self.say(other), "side": self.words.side(k, far),
+                  "pside": self.words.side(k, near), "first": self.say(first)}
+        if abs(a[:, k].mean() - s) <= tol:
+            key = "repeat_mirror_mid"
+        elif abs(outer - s) <= tol:
+            key = "repeat_mirror_flush"
+        else:
+            inside = (outer - s) * (1 if near == "lo" else -1) > 0
+            key = "repeat_mirror" if inside else "repeat_mirror_out"
+        short = (("directions", _raw("directions")[k]), ("parent", self.say(other)))
+        return key, tuple(sorted(fields.items())), short
 
     def near_shift(self, first: str, q: str) -> str | None:
         """The ``shifts`` key ("y_hi": behind it) of copy ``q`` from ``first`` when it is moved
