@@ -4444,3 +4444,38 @@ def test_a_part_placed_by_eye_says_both_ends_extended_alike_at_once():
             assert abs(other[1, k] + extra - me[1, k]) <= 1e-6
             found += 1
     assert found
+
+
+def test_a_generated_assembly_sequences_and_its_carries_on_edges_say_the_edge(tmp_path):
+    """The benchmark's generated 40-part assembly (never tuned for): every view and level
+    sequences (a walked carry starting where an edge of a part drawn before crosses its line
+    once crashed, the edge's points arrays rather than points), and each "Carry MP from X on
+    QX ..." names a point on both lines, from the letters' 3D points."""
+    import sys
+
+    from h2s_print import sequence as seq
+    from h2s_print.config import load_tutorial
+    from h2s_print.plan import build_plan
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+    try:
+        from bench_pipeline import _write_generated
+    finally:
+        sys.path.pop(0)
+    t = load_tutorial(_write_generated(40, tmp_path))
+    plan = build_plan(t.model, t.solver, t.views)
+    pattern = re.compile(r"Carry ([A-Z]'?)([A-Z]'?) from ([A-Z]'?) on ([A-Z]'?)([A-Z]'?) ")
+    seen = 0
+    for view in t.views:
+        for vp in seq.sequence_views(plan, view, tuple(t.levels), t.paper, t.sequence):
+            for s in vp.steps:
+                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}
+                for x in s.substeps:
+                    m = pattern.match(x)
+                    if not m:
+                        continue
+                    a, b, p, c, d = (at[k] for k in m.groups())
+                    for u, v in ((a, b), (c, d)):
+                        assert np.linalg.norm(np.cross(v - u, p - u)) <= 1e-6 * np.dot(v - u, v - u)
+                    seen += 1
+    assert seen >= 1

@@ -2182,7 +2182,7 @@ class _Context(_Repeats, _Ellipses):
         found: list[Pts] = []
         for run, at in zip(runs, turns):
             c = at.points[0]
-            got = next((Pts((p, q)) for p, q in paper if _on_segment(c, p, q, tol)
+            got = next((Pts((_vec(p), _vec(q))) for p, q in paper if _on_segment(c, p, q, tol)
                         and not (_on_line(p, *run.points, tol) and _on_line(q, *run.points, tol))),
                        None)
             if got is None:
