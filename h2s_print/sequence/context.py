@@ -1410,23 +1410,48 @@ class _Context(_Repeats, _Ellipses):
         # (a master read nothing of the shutter button's "Centre it front to back")
         unguided = self.free_positions(part, drawn, cand.unguided_axes)
         # (a part placed by eye has a headline that names no face: all its anchors said)
-        said = _join(_ratio_phrases(
-            words, [a for a in cand.anchors if eyeball or a not in contact], self.parent_name)
-            + self.lined_up(unguided))
-        summary = _cap(said) + "." if said else ""  # (a master read "front face. . Button 4")
+        phrases = (_ratio_phrases(words, [a for a in cand.anchors if eyeball or a not in contact],
+                                  self.parent_name)
+                   + self.lined_up(unguided))
+
+        def summed(head: str) -> str:
+            # a master's ratio words after ``head``; where the step would pass the limit, the
+            # longest said as pictured, one at a time ("..., and the rest as pictured.":
+            # generated assemblies' parts placed off three parts, 72-73 words)
+            kept = list(phrases)
+            while True:
+                said = _join(kept + ([_t("ratio_words.rest")] if len(kept) < len(phrases)
+                                     else []))
+                text = _cap(said) + "." if said else ""  # (a master read "front face. .")
+                if len(kept) <= 1 or len(f"{head} {text}".split()) <= MAX_STEP_WORDS:
+                    return text
+                kept.remove(max(reversed(kept), key=lambda x: len(x.split())))
         if eyeball:
-            specs = [spec("position", position=x)
-                     for x in _positions(words, cand.anchors, self.parent_name, True)]
+            positions = _positions(words, cand.anchors, self.parent_name, True)
             head = _t("headline.eyeball", Part=_cap(name), shape=shape) + note
 
-            def eyeballed(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
-                said, dims = by_eye(chosen)
-                return specs + said + ([spec("by_eye", dims=dims)] if dims else []) + list(repeat)
+            def placed(kept: list[str]) -> Callable[[list[tuple[Spec, list[int]]]], list[Spec]]:
+                specs = [spec("position", position=x) for x in kept] + (
+                    [spec("position_rest")] if len(kept) < len(positions) else [])
 
-            subs = self.lettered(self.copies_pictured(
-                self.sized(head, eyeballed, sizes, part, loose), head))
+                def eyeballed(chosen: list[tuple[Spec, list[int]]]) -> list[Spec]:
+                    said, dims = by_eye(chosen)
+                    return (specs + said + ([spec("by_eye", dims=dims)] if dims else [])
+                            + list(repeat))
+                return eyeballed
+
+            # a part placed by eye with more positions than a step has words for (the mixer's
+            # bowl from the side, six in 93 words; generated assemblies): the longest said as
+            # pictured, one at a time, until the step fits (issue 11: no step over 70 words)
+            kept = list(positions)
+            made = self.copies_pictured(self.sized(head, placed(kept), sizes, part, loose), head)
+            while kept and not self.fits_levels(made, head):
+                kept.remove(max(reversed(kept), key=lambda x: len(x.split())))
+                made = self.copies_pictured(self.sized(head, placed(kept), sizes, part, loose),
+                                            head)
+            subs = self.lettered(made)
             return [_Draft(part, "primitive", True, tuple(self.floor_side_lines(subs)), strokes,
-                           head, subs, summary)]
+                           head, subs, summed(head))]
         # Units of construction, one per parent face (lines shared on a face stay together).
         units: dict[tuple[str, int, str], _Unit] = {}
         earlier = [] if described is None else described
@@ -1988,7 +2013,7 @@ class _Context(_Repeats, _Ellipses):
             lines += self.box_around(part)
             self._box_steps.setdefault(part, here)
         drafts.append(_Draft(part, "primitive", False, tuple(lines), strokes, head, subs,
-                             summary))
+                             summed(head)))
         return drafts
 
     def record(self, units: Sequence["_Unit"], step: int,
