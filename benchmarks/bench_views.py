@@ -7,6 +7,8 @@ measured there.  Here each model (the four examples, then ``benchmarks/configs/`
 whose file is absent is skipped) is planned once for a sweep of 16 views (azimuth -150, -100,
 -60, -20, 20, 60, 100, 150 degrees; elevation 12 degrees two-point and 35 degrees three-point;
 the config's first view's distance, a 50 mm lens) and its novice tutorial sequenced in each.
+The benchmark's generated assemblies (``bench_pipeline``'s boxes, ``--generated 10,20`` by
+default; ``--generated ""`` for none) follow, written to a temporary folder.
 Printed per model: steps, words per step (the step's text, headline and numbered sub-steps:
 ``len(text.split())``) median and max, steps over ``MAX_STEP_WORDS``, turns said "(by eye)"
 and steps placing a part by eye.  Not a test: a table to read (README, *Teaching*).
@@ -21,6 +23,7 @@ import os
 import platform
 import statistics
 import sys
+import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -46,6 +49,8 @@ def sweep(first: ViewSpec) -> tuple[ViewSpec, ...]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--models", default="", help="comma-separated config names")
+    parser.add_argument("--generated", default="10,20",
+                        help="comma-separated part counts of generated assemblies")
     args = parser.parse_args()
     logging.disable(logging.WARNING)
     configs = ([REPO / "configs" / f"{n}.yaml" for n in EXAMPLES]
@@ -53,6 +58,12 @@ def main() -> None:
     if args.models:
         keep = set(args.models.split(","))
         configs = [c for c in configs if c.stem in keep]
+    folder = tempfile.TemporaryDirectory()
+    if args.generated:
+        sys.path.insert(0, str(REPO / "benchmarks"))
+        from bench_pipeline import _write_generated
+        configs += [_write_generated(int(n), Path(folder.name))
+                    for n in args.generated.split(",")]
     print(f"date: {datetime.date.today()}  machine: {platform.machine()}, {os.cpu_count()} cores"
           f" (nproc), Python {platform.python_version()}, {platform.system()}")
     print(f"{len(AZIMUTHS) * len(ELEVATIONS)} views a model, novice, limit {MAX_STEP_WORDS} words")
