@@ -213,11 +213,11 @@ class _Repeats:
 
     def mirrored(self, first: str, q: str) -> tuple[str, int] | None:
         """(a part ``first`` hangs off, an axis) when copy ``q``'s box is ``first``'s mirrored
-        across that part's middle along the axis, the same on the other axes, or None: "Part
-        7: the same box, mirrored left to right across the middle of part 1." (a read-through:
-        the desk's second foot said only where it lies front to back, and the IVAR box's
-        second side "where the picture shows it"; a side, a foot, a dowel across the middle
-        of what carries it is where a drawing teacher would say it is)."""
+        across that part's middle along the axis, the same on the other axes, or None (said by
+        :meth:`mirror_words`; a read-through: the desk's second foot said only where it lies
+        front to back, and the IVAR box's second side "where the picture shows it"; a side, a
+        foot, a dowel across the middle of what carries it is where a drawing teacher would
+        say it is)."""
         a = np.asarray(self.chosen[first].box, dtype=float)
         b = np.asarray(self.chosen[q].box, dtype=float)
         tol = 10.0 * self.tol
@@ -236,7 +236,7 @@ class _Repeats:
         """How copy ``q``, ``first`` mirrored across a part's middle (:meth:`mirrored`), is
         said: (template key, its fields, the fields of the shorter "mirrored left to right
         across part 1's middle") from where ``first`` lies at that part's side
-        nearer it: its middle on the side ("its middle in line with part 2's right side"),
+        nearer it: its middle on the side ("its middle on part 2's right side"),
         its outer side in line with it ("its right side in line with part 1's"), or in from
         it or out beyond it ("as far in from part 1's right side as part 6 is from its left
         side").  A read-through: "mirrored ... across the middle of part 1" left the reader
