@@ -1784,9 +1784,21 @@ class _Context(_Repeats, _Ellipses):
                         turns=Many(tuple(corners[axis, turn])), **to))
         if extended:
             carrying.append(moving("extend_to", extended))
-        # each sentence's lines and the anchors they place
-        said_by = [([ln for g in keys for ln in by_group[g][0]],
+        # each sentence's lines and the anchors they place (a line extended along itself is
+        # the extension sentence's, after the carries': "Extend K''A'' for its right side")
+        def along_extended(ln: _Line) -> bool:
+            return any(_on_line(ln.start, *r.points, self.tol)
+                       and _on_line(ln.end, *r.points, self.tol) for r in extended)
+
+        said_by = [([ln for g in keys for ln in by_group[g][0]
+                     if g[1] is not None or not along_extended(ln)],
                     [a for g in keys for a in by_group[g][1]]) for keys in pieces]
+        if extended:
+            said_by.append((
+                [ln for g in by_group if g[1] is None for ln in by_group[g][0]
+                 if along_extended(ln)],
+                [anc for a, b, anc in run_for if any(
+                    _same_segment(a, b, *r.points, self.tol) for r in extended)]))
         if meeting is not None:  # the carry without a stop first: "Carry FG ... and LM ...
             i, j, got = meeting  # to S on the roller's bottom edge, then ..."
             plain, stopped = ((j, i) if got.stopped == 0 else (i, j))
@@ -1844,8 +1856,9 @@ class _Context(_Repeats, _Ellipses):
             carry_units = [_Unit(owner, carrying, carry_lines, carried_for=carried_anchors)]
             # a carry sentence each, each a unit, when all of them are too long for one
             # step (a guides step over the word limit cannot be cut: the train's chimney
-            # carried three lines around corners in 71 words)
-            if (len(sentences) > 1 and not extended
+            # carried three lines around corners in 71 words; a generated assembly's part
+            # four lines and an extension in 79)
+            if (len(sentences) > 1
                     and self.step_words(carrying, _guides_of(9, 9, part=name,
                                                              the_parents=_the(self.say(owner))))
                     > MAX_STEP_WORDS):
