@@ -458,7 +458,9 @@ def _on_segment(p, a, b, tol) -> bool:
 def _ungrounded(lines, drawn, tol):
     """Lines of a step a person cannot draw from what is on paper: repeatedly, a line is
     grounded when its ends lie on grounded lines -- one end is enough for a line along a box
-    axis (it runs toward a vanishing point), a slanted line (a diagonal) needs both."""
+    axis (it runs toward a vanishing point), or an end of a grounded line on it (drawn
+    through that point: "Through V, the blue floor line's foot, draw DU ..."); a slanted line
+    (a diagonal) needs both ends."""
     grounded = list(drawn)
     todo = list(lines)
     changed = True
@@ -468,7 +470,9 @@ def _ungrounded(lines, drawn, tol):
             a, b = ln
             axis_parallel = int(np.sum(np.abs(np.subtract(b, a)) > tol)) == 1
             on = [any(_on_segment(p, q, r, tol) for q, r in grounded) for p in (a, b)]
-            if all(on) or (axis_parallel and any(on)):
+            through = axis_parallel and any(_on_segment(p, a, b, tol)
+                                            for seg in grounded for p in seg)
+            if all(on) or (axis_parallel and any(on)) or through:
                 grounded.append(ln)
                 todo.remove(ln)
                 changed = True
@@ -3894,9 +3898,13 @@ def test_a_side_in_line_with_the_floor_lines_foot_stands_on_a_line_from_it(examp
     from h2s_print import sheet as S
     from h2s_print.templates import lookup
 
-    said = re.compile(re.escape(lookup("steps", "substep.floor_side")).replace(
-        r"\{point\}", r"([A-Z]'*)").replace(r"\{line\}", r"([A-Z]'*)([A-Z]'*)").replace(
-        r"\{vp\}", ".+").replace(r"\{sides\}", "(.+)"))
+    def pattern(key: str) -> re.Pattern:
+        return re.compile(re.escape(lookup("steps", f"substep.{key}")).replace(
+            r"\{point\}", r"([A-Z]'*)").replace(r"\{line\}", r"([A-Z]'*)([A-Z]'*)").replace(
+            r"\{vp\}", ".+").replace(r"\{sides\}", "(.+)"))
+
+    # (parts on both sides of the foot: the line through it, under them all)
+    said, through = pattern("floor_side"), pattern("floor_side_through")
     checked = 0
     for name, (t, plan, views) in examples.items():
         chosen = plan.chosen()
@@ -3905,11 +3913,12 @@ def test_a_side_in_line_with_the_floor_lines_foot_stands_on_a_line_from_it(examp
             floor_line = S.first_floor_line(vp)
             for s in vp.steps:
                 for x in s.substeps:
-                    m = said.fullmatch(x)
+                    m = said.fullmatch(x) or through.fullmatch(x)
                     if not m:
                         continue
                     foot, a, b, side = m.groups()
-                    assert foot == a
+                    both = m.re is through
+                    assert (foot != a) if both else (foot == a)
                     at3 = {lb.name: np.asarray(lb.at3d, float) for lb in s.labels}
                     at2 = {lb.name: np.asarray(lb.at_mm, float) for lb in s.labels}
                     assert np.allclose(at2[foot], floor_line[1], atol=0.05)
@@ -3931,8 +3940,14 @@ def test_a_side_in_line_with_the_floor_lines_foot_stands_on_a_line_from_it(examp
                     along = copies and all(c[0 if end == "lo" else 1][k] == pytest.approx(plane)
                                            for c in copies)
                     ends = [b[:, o] for b in [box] + (copies if along else [])]
-                    far = max(np.concatenate(ends), key=lambda v: abs(v - p[o]))
-                    assert q[o] == pytest.approx(far)
+                    if both:  # from one end of them all to the other, through the foot
+                        span = np.concatenate(ends)
+                        assert sorted((p[o], q[o])) == pytest.approx([span.min(), span.max()])
+                        f3 = at3[foot]
+                        assert min(p[o], q[o]) < f3[o] < max(p[o], q[o])
+                    else:
+                        far = max(np.concatenate(ends), key=lambda v: abs(v - p[o]))
+                        assert q[o] == pytest.approx(far)
                     if along:
                         assert any(x.endswith(f"on {a}{b} too, where the picture shows them.")
                                    for x in s.substeps), s.substeps
@@ -4523,3 +4538,40 @@ def test_a_generated_assemblys_steps_keep_within_the_limit(tmp_path):
                 assert len(s.text.split()) <= MAX_STEP_WORDS, (view.name, level, s.text)
                 trimmed += f"and {rest}." in s.text
     assert trimmed >= 1
+
+
+def test_copies_said_on_a_floor_line_stand_on_the_line_drawn(examples):
+    """A read-through of the train (high-right): "From J, the blue floor line's foot, draw JP
+    ...: its back stands on it. ... Wheel 3, wheel 5 and wheel 7: the same box, on JP too"
+    where wheels 5 and 7 stood beyond J, on no line drawn.  Every part such a step draws has
+    that side's bottom edge on the segment drawn, from end to end (3D, from the letters);
+    the line runs through the foot ("Through V, ...") where parts stand on both sides of it."""
+    from conftest import side_names
+
+    t, plan, views = examples["train"]
+    chosen = plan.chosen()
+    seen = through = 0
+    for (view, level), vp in views.items():
+        if level != "novice":
+            continue
+        names = side_names(t, plan, next(v for v in t.views if v.name == view))
+        for s in vp.steps:
+            at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}
+            text = " ".join(s.substeps)
+            m = re.search(r"(From|Through) ([A-Z]'*), the blue floor line's foot, draw "
+                          r"([A-Z]'*)([A-Z]'*) .*?: its (.+?) stands on it\.", text)
+            if not m or " too" not in text:
+                continue
+            foot, a, b = at[m.group(2)], at[m.group(3)], at[m.group(4)]
+            k, end = names[m.group(5)]
+            o = 1 - k
+            lo, hi = min(a[o], b[o]), max(a[o], b[o])
+            assert lo - 1e-6 <= foot[o] <= hi + 1e-6
+            for part in {st.part for st in s.strokes}:
+                box = np.asarray(chosen[part].box, dtype=float)
+                e = 0 if end == "lo" else 1
+                assert abs(box[e, k] - a[k]) <= 1e-6  # the side on the line
+                assert lo - 1e-6 <= box[0, o] and box[1, o] <= hi + 1e-6, (view, part)
+            through += m.group(1) == "Through"
+            seen += 1
+    assert seen >= 2 and through >= 1

@@ -198,6 +198,7 @@ def _stands_on_floor(d: _Draft) -> bool:
     """Does draft ``d`` stand a part on the floor the sheet prints ("Its bottom stands on the
     floor")?"""
     return any(x.key in ("on_floor", "on_floor_eye", "on_floor_line", "floor_side",
+                         "floor_side_through",
                          "floor_line", "floor_line_end", "floor_back")
                for x in d.specs)
 
@@ -509,14 +510,29 @@ class _Context(_Repeats, _Ellipses):
                 o = 1 - k
                 boxes = [box] + [self.chosen[q].box for q in copies]
                 along = all(abs(b[e][k] - foot[k]) <= self.tol for b in boxes[1:])
-                far = max((b[j][o] for b in (boxes if along else boxes[:1]) for j in (0, 1)),
-                          key=lambda v: abs(v - foot[o]))
+                ends = [b[j][o] for b in (boxes if along else boxes[:1]) for j in (0, 1)]
+                far = max(ends, key=lambda v: abs(v - foot[o]))
                 if abs(far - foot[o]) <= self.tol:
                     continue
                 end = [float(foot[0]), float(foot[1]), float(foot[2])]
                 end[o] = float(far)
                 stop: Vec3 = (end[0], end[1], end[2])
                 side = self.words.side(k, "lo" if e == 0 else "hi")
+                # parts on both sides of the foot (a read-through: the train's wheels 5 and 7
+                # stood on "JP" beyond J, where no line was): the line runs under them all,
+                # drawn through the foot
+                behind = [v for v in ends if (v - foot[o]) * (far - foot[o]) < 0
+                          and abs(v - foot[o]) > self.tol]
+                if behind:
+                    back = max(behind, key=lambda v: abs(v - foot[o]))
+                    start = list(end)
+                    start[o] = float(back)
+                    begin: Vec3 = (start[0], start[1], start[2])
+                    return (spec("floor_side_through", line=Pts((begin, stop)),
+                                 point=Pts((foot,)), vp=self.words.vp(o, begin, stop),
+                                 sides=side),
+                            _Line("vanishing", begin, stop), (k, "lo" if e == 0 else "hi"),
+                            bool(copies) and along)
                 return (spec("floor_side", line=Pts((foot, stop)), point=Pts((foot,)),
                              vp=self.words.vp(o, foot, stop), sides=side),
                         _Line("vanishing", foot, stop), (k, "lo" if e == 0 else "hi"),
@@ -526,7 +542,7 @@ class _Context(_Repeats, _Ellipses):
     def floor_side_lines(self, specs: Sequence[Spec]) -> list[_Line]:
         """The lines the ``floor_side`` sentences among ``specs`` draw."""
         return [_Line("vanishing", *dict(x.fields)["line"].points) for x in specs
-                if x.key == "floor_side"]
+                if x.key in ("floor_side", "floor_side_through")]
 
     def basic_order(self, keep: set[str]) -> list[str]:
         """The control tutorial's order of the kept parts (fitted boxes, no anchoring): the
@@ -1256,7 +1272,8 @@ class _Context(_Repeats, _Ellipses):
             # says so instead of lining it up in words (the train's wheels' backs)
             floor = self.floor_size(part, drawn)
             side = self.floor_side(part, drawn, copies_of)
-            if side is not None and floor and floor[0][0].key == "floor_side":
+            if side is not None and floor and floor[0][0].key in ("floor_side",
+                                                                  "floor_side_through"):
                 said_by_line = [(q, a) for q, a in positions
                                 if (a.axis, a.end) != side[2] or a.axis == 2]
                 where = self.free_specs(said_by_line) + [side[0]]
