@@ -64,3 +64,32 @@ def side_names(tutorial, plan, view, ends=("lo", "hi", "mid")) -> dict[str, tupl
 
     words = seq_context._context(plan, view, tutorial.paper, tutorial.sequence).words
     return {words.side(a, e): (a, e) for a in range(3) for e in ends}
+
+
+def check_carries_from_on(steps) -> int:
+    """Each "Carry XY from A on LM ..." sentence of ``steps``: A lies on the carried line XY
+    and on the segment LM, from the letters' 3D points (``_Context.crossing_lines``; a
+    read-through found "Carry XY from V' ..." with nothing saying what V' was).  Returns how
+    many it checked."""
+    import re
+
+    import numpy as np
+
+    pattern = re.compile(r"Carry ([A-Z]'?)([A-Z]'?) from ([A-Z]'?) on ([A-Z]'?)([A-Z]'?) ")
+
+    def on_line(p, a, b) -> bool:
+        d = b - a
+        return float(np.linalg.norm(np.cross(d, p - a))) <= 1e-6 * max(1.0, float(np.dot(d, d)))
+
+    seen = 0
+    for s in steps:
+        at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}
+        for x in s.substeps:
+            m = pattern.match(x)
+            if not m:
+                continue
+            a, b, p, c, d = (at[k] for k in m.groups())
+            assert on_line(p, a, b), x
+            assert on_line(p, c, d) and min(np.dot(p - c, d - c), np.dot(p - d, c - d)) >= -1e-9, x
+            seen += 1
+    return seen

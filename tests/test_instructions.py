@@ -1715,19 +1715,8 @@ def test_a_carry_from_a_point_on_its_line_says_the_line_crossing_there(examples)
     # vanishing point below." where nothing said what V' was (where G'K' crosses XY).  Now
     # "Carry XY from A on LM ...": A lies on the carried line and on the line named, both
     # drawn, checked from the letters' 3D points
-    pattern = re.compile(r"Carry ([A-Z]'?)([A-Z]'?) from ([A-Z]'?) on ([A-Z]'?)([A-Z]'?) ")
-    seen = 0
-    for name, (t, plan, views) in examples.items():
-        for (view, level), vp in views.items():
-            for s in vp.steps:
-                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}
-                for x in s.substeps:
-                    m = pattern.match(x)
-                    if not m:
-                        continue
-                    a, b, p, c, d = (at[k] for k in m.groups())
-                    assert _on_line(p, a, b, 1e-6), (name, view, level, x)
-                    assert _on_line(p, c, d, 1e-6) and min(
-                        np.dot(p - c, d - c), np.dot(p - d, c - d)) >= -1e-9, (name, view, x)
-                    seen += 1
+    from conftest import check_carries_from_on
+
+    seen = sum(check_carries_from_on(vp.steps)
+               for _, _, views in examples.values() for vp in views.values())
     assert seen >= 2  # the train's chimney, high-right, novice and apprentice

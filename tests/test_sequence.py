@@ -4478,9 +4478,20 @@ def test_a_generated_assembly_sequences_and_its_carries_on_edges_say_the_edge(tm
     sequences (a walked carry starting where an edge of a part drawn before crosses its line
     once crashed, the edge's points arrays rather than points), and each "Carry MP from X on
     QX ..." names a point on both lines, from the letters' 3D points."""
+    from h2s_print import sequence as seq
+    from conftest import check_carries_from_on
+
+    t, plan = _generated_plan(40, tmp_path)
+    seen = sum(check_carries_from_on(vp.steps) for view in t.views
+               for vp in seq.sequence_views(plan, view, tuple(t.levels), t.paper, t.sequence))
+    assert seen >= 1
+
+
+def _generated_plan(n: int, folder: Path):
+    """The pipeline benchmark's generated ``n``-part assembly, written to ``folder``: its
+    tutorial config and plan."""
     import sys
 
-    from h2s_print import sequence as seq
     from h2s_print.config import load_tutorial
     from h2s_print.plan import build_plan
 
@@ -4489,23 +4500,8 @@ def test_a_generated_assembly_sequences_and_its_carries_on_edges_say_the_edge(tm
         from bench_pipeline import _write_generated
     finally:
         sys.path.pop(0)
-    t = load_tutorial(_write_generated(40, tmp_path))
-    plan = build_plan(t.model, t.solver, t.views)
-    pattern = re.compile(r"Carry ([A-Z]'?)([A-Z]'?) from ([A-Z]'?) on ([A-Z]'?)([A-Z]'?) ")
-    seen = 0
-    for view in t.views:
-        for vp in seq.sequence_views(plan, view, tuple(t.levels), t.paper, t.sequence):
-            for s in vp.steps:
-                at = {lb.name: np.asarray(lb.at3d, dtype=float) for lb in s.labels}
-                for x in s.substeps:
-                    m = pattern.match(x)
-                    if not m:
-                        continue
-                    a, b, p, c, d = (at[k] for k in m.groups())
-                    for u, v in ((a, b), (c, d)):
-                        assert np.linalg.norm(np.cross(v - u, p - u)) <= 1e-6 * np.dot(v - u, v - u)
-                    seen += 1
-    assert seen >= 1
+    t = load_tutorial(_write_generated(n, folder))
+    return t, build_plan(t.model, t.solver, t.views)
 
 
 def test_a_generated_assemblys_steps_keep_within_the_limit(tmp_path):
@@ -4514,21 +4510,11 @@ def test_a_generated_assemblys_steps_keep_within_the_limit(tmp_path):
     the step fits ("..., and the rest as pictured."), the others kept word for word.  Its
     novice high-right view carried four lines and extended one for a part in one guides step
     of 79 words: each carry sentence is a unit of its own there, the extension too."""
-    import sys
-
     from h2s_print import sequence as seq
-    from h2s_print.config import load_tutorial
-    from h2s_print.plan import build_plan
     from h2s_print.sequence.drafts import MAX_STEP_WORDS
     from h2s_print.templates import lookup
 
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-    try:
-        from bench_pipeline import _write_generated
-    finally:
-        sys.path.pop(0)
-    t = load_tutorial(_write_generated(20, tmp_path))
-    plan = build_plan(t.model, t.solver, t.views)
+    t, plan = _generated_plan(20, tmp_path)
     rest = lookup("steps", "ratio_words.rest")
     trimmed = 0
     for view in t.views:
