@@ -213,6 +213,17 @@ def _floor_span(drafts: Sequence[_Draft]) -> tuple[int | None, int]:
 
 #: Citations of an edge of a drawn part.
 _EDGE_CITES = ("edge", "edge_two", "edge_for", "edge_for_two")
+def _fewest_longest(items: Sequence[str], fits: Callable[[list[str]], bool],
+                    least: int) -> list[str]:
+    """``items`` without their longest (in words; ties: the later), one at a time, until
+    ``fits`` them or ``least`` are left: what a step over the word limit still says, the rest
+    left to the picture."""
+    kept = list(items)
+    while len(kept) > least and not fits(kept):
+        kept.remove(max(reversed(kept), key=lambda x: len(x.split())))
+    return kept
+
+
 #: Centring sentences said of two crossing lines in one (:meth:`_Context.centred_together`).
 _CROSS_CENTRED = {"centred": "centred_cross", "centred_reuse": "centred_cross_reuse",
                   "centred_carried": "centred_cross_carried",
@@ -1433,16 +1444,15 @@ class _Context(_Repeats, _Ellipses):
 
         def summed(head: str) -> str:
             # a master's ratio words after ``head``; where the step would pass the limit, the
-            # longest said as pictured, one at a time ("..., and the rest as pictured.":
-            # generated assemblies' parts placed off three parts, 72-73 words)
-            kept = list(phrases)
-            while True:
+            # longest said as pictured ("..., and the rest as pictured.": generated
+            # assemblies' parts placed off three parts, 72-73 words)
+            def text(kept: list[str]) -> str:
                 said = _join(kept + ([_t("ratio_words.rest")] if len(kept) < len(phrases)
                                      else []))
-                text = _cap(said) + "." if said else ""  # (a master read "front face. .")
-                if len(kept) <= 1 or len(f"{head} {text}".split()) <= MAX_STEP_WORDS:
-                    return text
-                kept.remove(max(reversed(kept), key=lambda x: len(x.split())))
+                return _cap(said) + "." if said else ""  # (a master read "front face. .")
+
+            return text(_fewest_longest(
+                phrases, lambda kept: len(f"{head} {text(kept)}".split()) <= MAX_STEP_WORDS, 1))
         if eyeball:
             positions = _positions(words, cand.anchors, self.parent_name, True)
             head = _t("headline.eyeball", Part=_cap(name), shape=shape) + note
@@ -1459,14 +1469,13 @@ class _Context(_Repeats, _Ellipses):
 
             # a part placed by eye with more positions than a step has words for (the mixer's
             # bowl from the side, six in 93 words; generated assemblies): the longest said as
-            # pictured, one at a time, until the step fits (issue 11: no step over 70 words)
-            kept = list(positions)
-            made = self.copies_pictured(self.sized(head, placed(kept), sizes, part, loose), head)
-            while kept and not self.fits_levels(made, head):
-                kept.remove(max(reversed(kept), key=lambda x: len(x.split())))
-                made = self.copies_pictured(self.sized(head, placed(kept), sizes, part, loose),
+            # pictured until the step fits (issue 11: no step over 70 words)
+            def made(kept: list[str]) -> list[Spec]:
+                return self.copies_pictured(self.sized(head, placed(kept), sizes, part, loose),
                                             head)
-            subs = self.lettered(made)
+
+            subs = self.lettered(made(_fewest_longest(
+                positions, lambda kept: self.fits_levels(made(kept), head), 0)))
             return [_Draft(part, "primitive", True, tuple(self.floor_side_lines(subs)), strokes,
                            head, subs, summed(head))]
         # Units of construction, one per parent face (lines shared on a face stay together).
