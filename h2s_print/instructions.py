@@ -66,10 +66,15 @@ class Pts:
     """Points named by their letters run together in a sentence (``AC`` for a line).
 
     ``places``: what the line places, said after its letters with the template
-    ``substep.line_for`` ("QR for its bottom"; empty: the letters alone)."""
+    ``substep.line_for`` ("QR for its bottom"; empty: the letters alone).
+    ``step``: the earlier step that drew the line, said after its letters with the template
+    ``substep.line_step`` ("MP (step 7)"; 0: not said): set by the sequence stage where a
+    sub-step names a line it does not draw (``_Context.cite_earlier``); the line's letters
+    are then on that step's picture too."""
 
     points: tuple[Vec3, ...]
     places: str = ""
+    step: int = 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -222,13 +227,16 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
         for s in specs:
             fields = dict(s.fields)
             n = fields.get("step")
-            if not (isinstance(n, int) and 0 < n <= k):
-                continue
-            for value in fields.values():
-                for p in points_of(value):
+            cited = ([(n, points_of(v)) for v in fields.values()]
+                     if isinstance(n, int) and 0 < n <= k else [])
+            cited += [(run.step, run.points) for v in fields.values()
+                      if isinstance(v, (Pts, Many)) for run in line_runs(v)
+                      if 0 < run.step <= k]
+            for m, pts in cited:
+                for p in pts:
                     i = find(p)
-                    if i not in named[n - 1]:
-                        named[n - 1].append(i)
+                    if i not in named[m - 1]:
+                        named[m - 1].append(i)
     last: dict[int, int] = {}
     for k, order in enumerate(named):
         for i in order:
@@ -253,9 +261,12 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             on = off[row] <= tol
             if on.any():
                 last[i] = max(last[i], int(until[on].max()))
-    # the earlier steps each step sends the reader back to ("Use KL from step 2")
+    # the earlier steps each step sends the reader back to ("Use KL from step 2", "Carry
+    # MP (step 7) ...")
     cites = [{v - 1 for s in specs for name, v in s.fields
               if name == "step" and isinstance(v, int) and 0 < v <= k}
+             | {run.step - 1 for s in specs for _, v in s.fields if isinstance(v, (Pts, Many))
+                for run in line_runs(v) if 0 < run.step <= k}
              for k, specs in enumerate(steps)]
     letter: dict[int, str] = {}
     held: list[tuple[int, str]] = []  # (last step, letter) of points lettered so far
@@ -295,10 +306,22 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
             held.append((last[i], letter[i]))
             ended[letter[i]] = last[i]
 
-    def said(run: Pts) -> str:
+    def said(run: Pts, step: bool = True) -> str:
         letters = "".join(letter[find(p)] for p in run.points)
+        if run.step and step:
+            letters = render("line_step", {"line": letters, "step": run.step})
         return render("line_for", {"line": letters, "sides": run.places}) if run.places \
             else letters
+
+    def said_many(runs: tuple[Pts, ...]) -> str:
+        """Runs joined; one step said after them all when all come from it and none says
+        what it places ("MP and XY (step 7)")."""
+        steps = {run.step for run in runs}
+        if len(runs) > 1 and len(steps) == 1 and 0 not in steps and not any(
+                run.places for run in runs):
+            return render("line_step", {"line": join([said(run, False) for run in runs]),
+                                        "step": runs[0].step})
+        return join([said(run) for run in runs])
 
     out = []
     for specs, order in zip(steps, named):
@@ -309,7 +332,7 @@ def letter_steps(steps: Sequence[Sequence[Spec]], tol: float,
                 if isinstance(value, Pts):
                     value = said(value)
                 elif isinstance(value, Many):
-                    value = join([said(run) for run in value.items])
+                    value = said_many(value.items)
                 fields[name] = value
             sentences.append(render(s.key, fields))
         out.append((sentences, [(letter[i], _vec(points[i])) for i in order]))

@@ -75,7 +75,9 @@ def check_carries_from_on(steps) -> int:
 
     import numpy as np
 
-    pattern = re.compile(r"Carry ([A-Z]'?)([A-Z]'?) from ([A-Z]'?) on ([A-Z]'?)([A-Z]'?) ")
+    cite = r"(?: \(step \d+\))?"  # a line of an earlier step says which (cite_earlier)
+    pattern = re.compile(rf"Carry ([A-Z]'?)([A-Z]'?){cite} from ([A-Z]'?) on ([A-Z]'?)([A-Z]'?)"
+                         rf"{cite} ")
 
     def on_line(p, a, b) -> bool:
         d = b - a

@@ -3669,9 +3669,10 @@ def test_a_line_carried_from_a_crossing_is_constructed_exactly(examples):
     from h2s_print.templates import lookup
 
     phrases = {v for k in ("vp", "vp_away") for v in lookup("steps", k).values() if "{" not in v}
-    pattern = re.compile(r"Extend ([A-Z]'*[A-Z]'*) to ([A-Z]'*[A-Z]'*), meeting it at ([A-Z]'*);"
-                         r" from \3, draw (\3([A-Z]'*)) (.+?), meeting ([A-Z]'*[A-Z]'*) at "
-                         r"\5(?:, for its (.+))?\.")
+    cite = r"(?: \(step \d+\))?"  # a line of an earlier step says which (cite_earlier)
+    pattern = re.compile(rf"Extend ([A-Z]'*[A-Z]'*){cite} to ([A-Z]'*[A-Z]'*){cite}, meeting it"
+                         rf" at ([A-Z]'*); from \3, draw (\3([A-Z]'*)) (.+?), meeting "
+                         rf"([A-Z]'*[A-Z]'*){cite} at \5(?:, for its (.+))?\.")
     found = 0
     for name, t, plan, vp in _all_views(examples):
         if vp.level != "novice":

@@ -111,6 +111,7 @@ from .geometry import (
 from .repeats import _Repeats
 from .words import (
     _cap,
+    drawn_fields,
     _guides_of,
     _join,
     _plural,
@@ -249,6 +250,12 @@ def _paired(s: Spec) -> Spec:
     return spec("connect_pair", s.same, s.pair, line=runs["line"][0], line2=runs["line"][1],
                 other=runs["other"][0], other2=runs["other"][1], point=runs["point"][0],
                 point2=runs["point"][1], **rest)
+
+
+def _edge_cite(key: str) -> bool:
+    """Does sub-step ``key`` cite a drawn box's edge ("Put its bottom on the edge AB.")?"""
+    return key.startswith("edge")
+
 
 @dataclass(eq=False)
 class _Context(_Repeats, _Ellipses):
@@ -784,6 +791,21 @@ class _Context(_Repeats, _Ellipses):
         words = self._step_words[key] = len(headline.split()) + subs
         return words
 
+    def said_lines(self, specs: Sequence[Spec]) -> set:
+        """The lines (:func:`points_key`) sub-steps draw (:func:`drawn_fields`) or cite
+        ("Use diagonals CB and DA from step 3"): a step names them again without a step
+        ("Draw DV; it crosses CB at K.")."""
+        out = set()
+        for x in specs:
+            f = dict(x.fields)
+            names = f if "step" in f else drawn_fields(x.key)
+            for name in names:
+                v = f.get(name)
+                if isinstance(v, (Pts, Many)):
+                    out.update(points_key(r.points, self.tol) for r in line_runs(v)
+                               if len(r.points) == 2)
+        return out
+
     def sized(self, headline: str, build: Callable[[list[tuple[Spec, list[int]]]], list[Spec]],
               sizes: list[tuple[Spec, list[int]]], part: str | None = None,
               loose: Sequence[int] = ()) -> list[Spec]:
@@ -1221,10 +1243,92 @@ class _Context(_Repeats, _Ellipses):
             lines = _first_lines(drafts[start].strokes, self.camera, self.floor_z(False))
             if lines is not None and lines.floor is not None:
                 on_paper += [(p, until) for p in lines.floor]
+        drafts = self.cite_earlier(drafts, roles)
         done = letter_steps([d.specs for d in drafts], self.tol, _substep, _join, on_paper,
                             drawn)
         return [replace(d, substeps=tuple(subs), labels=tuple(labels))
                 for d, (subs, labels) in zip(drafts, done)]
+
+    def cite_earlier(self, drafts: Sequence[_Draft], roles: frozenset[str]) -> list[_Draft]:
+        """The drafts with each line a sub-step names but neither draws nor cites, drawn by
+        an earlier step, marked with that step where the step has room (:attr:`Pts.step`:
+        "Carry MP and XY (step 7) toward ..."; the primer says so; a read-through met lines
+        of earlier steps named with no step, where the primer promised one).
+
+        The step is the first that drew the line (of ``roles``, the same two ends: an edge of
+        a box drawn on a guide of step 2 is that box's, not step 2's, whose picture shows no
+        such points).  Left alone: a sub-step that cites a step itself ("Use KL from step
+        2."), one that cites a box's edge ("Put its bottom on the edge AB.": the box is on
+        the sheet, not a step's line), the lines a sentence draws (:func:`drawn_fields`),
+        and a line the step names again (:meth:`said_lines`: "Draw DV; it crosses CB at K."
+        after "Use diagonals CB and DA from step 3.").
+
+        Room: the steps were packed and sized to :data:`MAX_STEP_WORDS` before they had
+        numbers; a step the citations would take over it leaves out those of the nearest
+        steps, one at a time, until it fits (the page the reader has just turned is the one
+        they least need sending back to; the letters are on this step's picture either way).
+        Counting the citations while packing instead gave up constructions for them (the
+        roller's frame shaft walked to its line in 70 words; with "(step 2)" its turn went
+        by eye)."""
+        drawn: list[tuple[int, Vec3, Vec3]] = []  # (first step, start, end), steps in order
+        seen: set = set()
+        for k, d in enumerate(drafts):
+            for ln in d.lines:
+                key = points_key((ln.start, ln.end), self.tol)
+                if ln.role in roles and key not in seen:
+                    seen.add(key)
+                    drawn.append((k, ln.start, ln.end))
+
+        def first_drawn(run: Pts, k: int) -> int:
+            for j, p, q in drawn:
+                if j >= k:
+                    break
+                if _same_segment(*run.points, p, q, self.tol):
+                    return j + 1
+            return 0
+
+        out: list[_Draft] = []
+        for k, d in enumerate(drafts):
+            said = self.said_lines(d.specs)
+            cites: list[tuple[int, int, str, int]] = []  # (step, spec, field, item)
+            for i, x in enumerate(d.specs):
+                f = dict(x.fields)
+                if "step" in f or _edge_cite(x.key):
+                    continue
+                skip = drawn_fields(x.key) | {"edge"}  # (an edge extended: a box's)
+                for name, v in f.items():
+                    if name in skip or not isinstance(v, (Pts, Many)):
+                        continue
+                    for m, run in enumerate(line_runs(v)):
+                        key = points_key(run.points, self.tol)
+                        if len(run.points) != 2 or run.step or key in said:
+                            continue
+                        said.add(key)  # cited once a step
+                        n = first_drawn(run, k)
+                        if n:
+                            cites.append((n, i, name, m))
+
+            def with_cites(kept: list[tuple[int, int, str, int]]) -> tuple[Spec, ...]:
+                at = {(i, name, m): n for n, i, name, m in kept}
+                specs = list(d.specs)
+                for i in sorted({c[1] for c in kept}):
+                    x = specs[i]
+                    f = dict(x.fields)
+                    for name in sorted({c[2] for c in kept if c[1] == i}):
+                        v = f[name]
+                        runs = tuple(replace(r, step=at.get((i, name, m), 0))
+                                     for m, r in enumerate(line_runs(v)))
+                        f[name] = runs[0] if isinstance(v, Pts) else Many(runs)
+                    specs[i] = spec(x.key, x.same, x.pair, **f)
+                return tuple(specs)
+
+            # farthest back first: the ones kept longest where the step has no room for all
+            cites.sort(key=lambda c: (c[0], c[1], c[3]))
+            while cites and self.step_words(with_cites(cites), d.headline) > max(
+                    MAX_STEP_WORDS, self.step_words(d.specs, d.headline)):
+                cites.pop()
+            out.append(replace(d, specs=with_cites(cites)) if cites else d)
+        return out
 
     def primitive_drafts(self, part: str, first: bool, step: int = 0,
                          described: list[tuple[Vec3, Vec3, int]] | None = None,

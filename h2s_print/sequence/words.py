@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+import re
 from typing import Any, Callable, Iterable, Sequence
 
 import numpy as np
@@ -369,6 +371,24 @@ def _ratio_phrases(words: _Words, anchors: Sequence[Any],
         out.append(_t("ratio_words.extend_both", amount=_extension(entry_for(a.ratio)),
                       parent=name_of(a), dim=words.dim(a.axis)))
     return out
+
+
+_DRAWN_FIELD = re.compile(r"(?i)\bdraw (?:diagonals |the diagonals of halves )?\{(\w+)\}"
+                          r"(?: and \{(\w+)\})?")
+
+
+@functools.lru_cache(maxsize=None)
+def drawn_fields(key: str) -> frozenset[str]:
+    """The fields naming lines that sub-step ``key``'s sentence draws: those right after
+    "draw" in its English template ("Through {point}, draw {line} ...", "Draw diagonals
+    {first} and {second} ..."), and :data:`~.drafts._DRAWS`'s; every language's template
+    draws the same lines (``templates`` checks the fields match)."""
+    from .drafts import _DRAWS
+
+    text = templates.load("steps", "en")["substep"].get(key)
+    found = {n for m in _DRAWN_FIELD.finditer(text) for n in m.groups() if n} \
+        if isinstance(text, str) else set()
+    return frozenset(found | set(_DRAWS.get(key, ())))
 
 
 def _substep(key: str, fields: dict[str, Any]) -> str:
