@@ -1304,6 +1304,31 @@ def test_crossings_many_is_the_definition_pair_by_pair():
     assert touching > 100  # the cases do meet
 
 
+def test_line_segments_are_each_lines_consecutive_points():
+    """:func:`layout._line_segments` puts every line's points in one array: its rows are those
+    of the definition, line by line in order (each point with the next, a closed line's last
+    with its first, none for a line of one point), each with its line's index; seeded lines
+    of one to five points, open and closed, among items that are not lines."""
+    rng = np.random.default_rng(14)
+    for trial in range(200):
+        lines = [L.Polyline(tuple(map(tuple, rng.normal(size=(int(rng.integers(1, 6)), 2))
+                                      .round(int(rng.integers(0, 4))).tolist())),
+                            closed=bool(rng.integers(0, 2)))
+                 for _ in range(int(rng.integers(0, 8)))]
+        want, owners = [], []
+        for k, ln in enumerate(lines):
+            if len(ln.points_mm) > 1:
+                pts = (*ln.points_mm, ln.points_mm[0]) if ln.closed else ln.points_mm
+                for a, b in zip(pts, pts[1:]):
+                    want.append((a[0], a[1], b[0], b[1]))
+                    owners.append(k)
+        segs, owner = L._line_segments(lines)
+        assert segs.shape == (len(want), 4) and segs.tolist() == [list(r) for r in want], trial
+        assert owner.tolist() == owners, trial
+        items = [L.Text(0.0, 0.0, "x", 7.0), *lines, L.Circle(0.0, 0.0, 1.0)]
+        assert L._segments(items).tolist() == segs.tolist(), trial
+
+
 def test_the_primer_says_sizes_compare_the_real_parts_where_a_step_compares_one(examples):
     """Where a sub-step compares a size with another part's ("Make its width about three
     quarters of the engine's"), the primer says the comparison is of the real parts, not of
