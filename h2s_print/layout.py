@@ -270,7 +270,23 @@ def plain_text(string: str) -> str:
     text = str(string)
     if text.isascii() and "\t" not in text and "\n" not in text and ascii_font():
         return text  # nearly every text on a page: nothing to spell (measured: 1.2 s a book)
-    return "".join(spelled(ch) if printable(ch) else "?" for ch in text)
+    return text.translate(_printed_as(fonts.current(), text))
+
+
+#: Per font: code point -> how :func:`plain_text` prints it, each worked out once.
+_PRINTED_AS: dict[fonts.FontSpec, dict[int, str]] = {}
+
+
+def _printed_as(spec: fonts.FontSpec, text: str) -> dict[int, str]:
+    """The table ``str.translate`` prints ``text`` by in ``spec`` (the current font): each of
+    its characters ``spelled(ch) if printable(ch) else "?"``, worked out the first time the
+    font meets the character: three glyph checks a character, on every text that is not
+    plain ASCII (book, --jobs 1: plain_text 0.06 -> 0.02 s, bytes identical)."""
+    table = _PRINTED_AS.setdefault(spec, {})
+    for code in set(map(ord, text)).difference(table):
+        ch = chr(code)
+        table[code] = spelled(ch) if printable(ch) else "?"
+    return table
 
 
 def text_width_mm(string: str, size_pt: float, font: str = "Helvetica") -> float:

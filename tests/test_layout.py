@@ -288,6 +288,30 @@ def test_instruction_text_is_wrapped_whole_and_spelled_for_the_font():
         assert L.plain_text("⅓ of the body") == "1/3 of the body"
 
 
+def test_plain_text_is_each_character_spelled_for_the_font():
+    """:func:`layout.plain_text` prints a text by a table of its characters, each worked out
+    once a font: the text is the definition's, character by character (itself when the font
+    draws it, else its spelling, else ``?``), in DejaVu Sans and in Computer Modern, which
+    lacks the fractions, arrows and Cyrillic.  Seeded texts of ASCII, tabs and line breaks,
+    the spelled characters and others no font here draws."""
+    from h2s_print import fonts
+    from h2s_print.glyphs import SPELL, printable, spelled
+
+    rng = np.random.default_rng(15)
+    alphabet = list("Ab 3.,'") + ["\t", "\n", "é", "Ж", "·", "–", "\u4e2d", "\U0001f600"]
+    alphabet += list(SPELL)
+    cm = fonts.default_spec().regular.with_name("cmr10.ttf")
+    spelled_out = 0
+    for spec in (None, fonts.FontSpec(cm, cm, cm, "cmr10")):
+        with fonts.using(spec):
+            for trial in range(300):
+                text = "".join(rng.choice(alphabet, size=int(rng.integers(0, 12))))
+                want = "".join(spelled(ch) if printable(ch) else "?" for ch in text)
+                assert L.plain_text(text) == want, (spec, trial, text)
+                spelled_out += want != text
+    assert spelled_out > 100  # the cases are spelled
+
+
 def test_headline_and_numbered_substeps_are_set_in_order():
     plan, pages = workbook("novice")
     step = replace(plan.steps[1], headline="Lens: a box.", substeps=(
