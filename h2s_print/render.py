@@ -106,6 +106,11 @@ class _Drawn:
 
     texts: _TextLines = field(default_factory=dict)
     numbers: dict[float, str] = field(default_factory=dict)  #: mm -> its text in pt
+    #: (points, closed) -> the path's operators (:func:`_path_ops`): a book draws 42 000
+    #: polylines, 7 000 different (an earlier stroke again at every later step); looked up
+    #: by the points, a path drawn before is not written again (book, --jobs 1: render
+    #: 0.58 -> 0.50 s, bytes identical)
+    paths: dict[tuple[tuple[tuple[float, float], ...], bool], str] = field(default_factory=dict)
 
 
 def _text_x(anchor: str, x: float, width: float) -> float:
@@ -157,7 +162,11 @@ def _draw_page(c, page: Page, drawn: _Drawn) -> None:
             # bytes at a fraction of the calls.  The canvas's remembered stroke colour and
             # width are not updated; only saveState/restoreState read them, never used here.
             code.append(_stroke_style_ops(item.colour, item.width_mm, item.dash_mm))
-            code.append(_path_ops(item.points_mm, item.closed, drawn.numbers))
+            key = (item.points_mm, item.closed)
+            path = drawn.paths.get(key)
+            if path is None:
+                path = drawn.paths[key] = _path_ops(item.points_mm, item.closed, drawn.numbers)
+            code.append(path)
             code.append("S")
         elif isinstance(item, Text):
             if not item.string:

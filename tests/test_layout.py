@@ -288,6 +288,30 @@ def test_instruction_text_is_wrapped_whole_and_spelled_for_the_font():
         assert L.plain_text("⅓ of the body") == "1/3 of the body"
 
 
+def test_plain_text_is_each_character_spelled_for_the_font():
+    """:func:`layout.plain_text` prints a text by a table of its characters, each worked out
+    once a font: the text is the definition's, character by character (itself when the font
+    draws it, else its spelling, else ``?``), in DejaVu Sans and in Computer Modern, which
+    lacks the fractions, arrows and Cyrillic.  Seeded texts of ASCII, tabs and line breaks,
+    the spelled characters and others no font here draws."""
+    from h2s_print import fonts
+    from h2s_print.glyphs import SPELL, printable, spelled
+
+    rng = np.random.default_rng(15)
+    alphabet = list("Ab 3.,'") + ["\t", "\n", "é", "Ж", "·", "–", "\u4e2d", "\U0001f600"]
+    alphabet += list(SPELL)
+    cm = fonts.default_spec().regular.with_name("cmr10.ttf")
+    spelled_out = 0
+    for spec in (None, fonts.FontSpec(cm, cm, cm, "cmr10")):
+        with fonts.using(spec):
+            for trial in range(300):
+                text = "".join(rng.choice(alphabet, size=int(rng.integers(0, 12))))
+                want = "".join(spelled(ch) if printable(ch) else "?" for ch in text)
+                assert L.plain_text(text) == want, (spec, trial, text)
+                spelled_out += want != text
+    assert spelled_out > 100  # the cases are spelled
+
+
 def test_headline_and_numbered_substeps_are_set_in_order():
     plan, pages = workbook("novice")
     step = replace(plan.steps[1], headline="Lens: a box.", substeps=(
@@ -1302,6 +1326,31 @@ def test_crossings_many_is_the_definition_pair_by_pair():
         assert L._crossings_many(segs, boxes).tolist() == want, trial
         touching += sum(want)
     assert touching > 100  # the cases do meet
+
+
+def test_line_segments_are_each_lines_consecutive_points():
+    """:func:`layout._line_segments` puts every line's points in one array: its rows are those
+    of the definition, line by line in order (each point with the next, a closed line's last
+    with its first, none for a line of one point), each with its line's index; seeded lines
+    of one to five points, open and closed, among items that are not lines."""
+    rng = np.random.default_rng(14)
+    for trial in range(200):
+        lines = [L.Polyline(tuple(map(tuple, rng.normal(size=(int(rng.integers(1, 6)), 2))
+                                      .round(int(rng.integers(0, 4))).tolist())),
+                            closed=bool(rng.integers(0, 2)))
+                 for _ in range(int(rng.integers(0, 8)))]
+        want, owners = [], []
+        for k, ln in enumerate(lines):
+            if len(ln.points_mm) > 1:
+                pts = (*ln.points_mm, ln.points_mm[0]) if ln.closed else ln.points_mm
+                for a, b in zip(pts, pts[1:]):
+                    want.append((a[0], a[1], b[0], b[1]))
+                    owners.append(k)
+        segs, owner = L._line_segments(lines)
+        assert segs.shape == (len(want), 4) and segs.tolist() == [list(r) for r in want], trial
+        assert owner.tolist() == owners, trial
+        items = [L.Text(0.0, 0.0, "x", 7.0), *lines, L.Circle(0.0, 0.0, 1.0)]
+        assert L._segments(items).tolist() == segs.tolist(), trial
 
 
 def test_the_primer_says_sizes_compare_the_real_parts_where_a_step_compares_one(examples):
