@@ -1769,8 +1769,12 @@ def _erase_hints(plan: ViewPlan) -> list[str]:
 def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     """The step's "you may erase ..." line (empty when nothing retires): the lines by their
     letters ("Afterwards you may erase AC, BD and FG.") when the ends of each are lettered on
-    this step's picture, the others by their number and where to see which ("... AC and 2
-    more guide lines: the next picture no longer shows them.").  A guide that runs along an
+    this step's picture (the reader points at each); else, where they are all the guide lines
+    some steps drew, by those steps ("Afterwards you may erase this step's guide lines.",
+    "... the guide lines of steps 7 and 8.", :func:`_whole_steps`); else the lettered ones by
+    name and the others by their number and where to see which ("... AC and 2 more guide
+    lines: the next picture no longer shows them.").  The floor line printed on the sheet is
+    never among them (no one erases print; the count took it for a line to erase).  A guide that runs along an
     edge of the scaffold is erased only beyond it (the mixer's KU along the column's edge KL
     is "LU"), and not at all when it lies on the edge whole (:func:`_off_edges`).  ``edges``: the scaffold edges drawn by
     step ``i`` (:func:`_erase_hints` gathers them)."""
@@ -1778,18 +1782,34 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
         return ""
     later = {g.id for g, _ in _step_guides(plan, i + 1)}
     names: list[str | None] = []
+    retired: set[str] = set()  # the guides erased whole (no scaffold edge along them)
+    on_edges: set[str] = set()  # those along scaffold edges whole: never erased
     for g, _ in _step_guides(plan, i):
-        if g.id in later:
+        if g.id in later or g.role == "sheet":  # (printed on the sheet: no one erases it)
             continue
         pieces = _off_edges(g, edges)
         if not pieces:
+            on_edges.add(g.id)
             continue  # an edge of the drawing itself: nothing to erase
+        whole = (len(pieces) == 1 and math.dist(pieces[0][0], g.from_mm) <= 1e-6
+                 and math.dist(pieces[0][1], g.to_mm) <= 1e-6)
+        retired.add(g.id if whole else "")  # (a piece beyond an edge: named, not a step's)
         name = _letters_at(plan.steps[i], pieces[0]) if len(pieces) == 1 else None
         if name not in names or name is None:
             names.append(name)
     if not names:
         return ""
     said = [n for n in names if n is not None]
+    steps = _whole_steps(plan, i, retired, on_edges) if None in names else None
+    if steps == [i + 1]:
+        return plain_text(templates.text("pages", "step.erase_this"))
+    if steps:
+        join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
+        numbers = [str(n) for n in steps]
+        listed = (numbers[0] if len(numbers) == 1
+                  else join.join(numbers[:-1]) + last + numbers[-1])
+        return plain_text(templates.plural("pages", "step.erase_steps", len(steps),
+                                           steps=listed))
     if not said:
         return plain_text(templates.plural("pages", "step.erase", len(names)))
     join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
@@ -1816,6 +1836,32 @@ def _step_edges(step: Step) -> np.ndarray:
             if s.kind in ("scaffold", "scaffold_hidden")
             for p in (np.asarray(s.points_mm, dtype=float),) if len(p) > 1]
     return np.vstack(segs) if segs else np.zeros((0, 4))
+
+
+def _whole_steps(plan: ViewPlan, i: int, retired: set[str], on_edges: set[str]
+                 ) -> list[int] | None:
+    """The steps (numbers, in order) whose guide lines still on the paper are exactly the
+    guides retiring after step ``i`` (``retired``: their ids, each erased whole, or "" for
+    one erased only beyond a scaffold edge, which makes it None; ``on_edges``: retiring
+    guides that lie along scaffold edges whole, which no one erases), or None when they are
+    not: "Afterwards you may erase the guide lines of steps 7 and 8." says which lines as the
+    pictures show them (each step's picture draws its new guides in their own style), where
+    "... ED, FC and 11 more guide lines" left the reader counting (a read-through).  Every
+    guide those steps drew that is still drawn at step ``i`` must retire now, so that none
+    still needed is erased, and every retiring guide must be one of theirs."""
+    if not retired or "" in retired:
+        return None
+    first: dict[str, int] = {}  # each guide's step (number) that drew it
+    for k, step in enumerate(plan.steps[:i + 1]):
+        for g in step.guides:
+            if g.status == "new" and g.role != "sheet":
+                first.setdefault(g.id, k + 1)
+    if not retired <= first.keys():
+        return None
+    steps = sorted({first[g] for g in retired})
+    shown = {g.id for g, _ in _step_guides(plan, i)}
+    drew = {g for g, n in first.items() if n in steps and g in shown} - on_edges
+    return steps if drew == retired else None
 
 
 def _off_edges(guide: Guide, edges: np.ndarray) -> list[tuple[Pt, Pt]]:

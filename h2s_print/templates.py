@@ -59,8 +59,8 @@ FIELDS: dict[str, frozenset[str]] = {
         "the_part", "through", "total", "turns", "turns2", "vp", "vp2", "vp3", "vp4", "where", "words")),
     "pages": frozenset((
         "corner", "distance", "dx", "dy", "edges", "example", "first", "full", "hdir", "index",
-        "label", "last", "level", "lines", "minutes", "n", "names", "page", "pages", "the_part",
-        "title", "vdir", "view", "vp")),
+        "label", "last", "level", "lines", "minutes", "n", "names", "page", "pages", "steps",
+        "the_part", "title", "vdir", "view", "vp")),
     "rank": frozenset(("condition", "count", "index", "mean", "n", "object", "pair")),
     "study": frozenset((
         "condition", "config", "fill", "margin", "n", "n_drawings", "named", "object", "page",

@@ -102,6 +102,7 @@ def test_plural_forms_follow_the_languages_rules(folder):
             return text
         text = re.sub(r"  erase:\n(    .*\n)+", "  erase:\n" + forms, text)
         text = re.sub(r"  erase_more:\n(    .*\n)+", "  erase_more:\n" + forms, text)
+        text = re.sub(r"  erase_steps:\n(    .*\n)+", "  erase_steps:\n" + forms, text)
         return re.sub(r"  count:\n(    .*\n)+", "  count:\n" + forms, text)
 
     _translate(folder, "ru", russian)

@@ -1544,3 +1544,72 @@ def test_a_cover_keeps_every_part_name_on_the_page(shared_models):
             assert sum(x.startswith(f"{label}:") for x in names) == 1, (label, names)
         checked += 1
     assert checked >= 4
+
+
+def test_an_erase_hint_names_whole_steps_only_when_all_their_guides_go():
+    # a read-through counted "NP, XY, ZC, DE and 11 more guide lines" on the train's wheel
+    # step: where the retiring guides are all the lines some steps drew (and still show),
+    # the hint names those steps ("this step's guide lines", "the guide lines of steps 11
+    # and 12"), checked against the plan: every guide those steps drew that is shown at
+    # the step is gone at the next (none still needed is erased), and every guide gone
+    # (but those along a scaffold edge, erased by no one) is one of theirs
+    from pathlib import Path
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.pipeline import plan_tutorial
+
+    this = lookup("pages", "step")["erase_this"]
+    forms = [re.compile(re.escape(v).replace(r"\{steps\}", r"(.+)") + "$")
+             for v in lookup("pages", "step")["erase_steps"].values()]
+    seen = 0
+    for name in ("train", "camera"):
+        t = load_tutorial(Path(__file__).resolve().parents[1] / "configs" / f"{name}.yaml")
+        for vp in plan_tutorial(t).views:
+            hints = L._erase_hints(vp)
+            first: dict[str, int] = {}
+            edges = []
+            for i, step in enumerate(vp.steps):
+                edges.append(L._step_edges(step))
+                for g in step.guides:
+                    if g.status == "new" and g.role != "sheet":
+                        first.setdefault(g.id, i + 1)
+                m = next((f.match(hints[i]) for f in forms if f.match(hints[i])), None)
+                if hints[i] != this and m is None:
+                    continue
+                steps = ({i + 1} if m is None else
+                         {int(n) for n in re.findall(r"\d+", m.group(1))})
+                shown = {g.id: g for g, _ in L._step_guides(vp, i)}
+                after = {g.id for g, _ in L._step_guides(vp, i + 1)}
+                theirs = {g for g in shown if first.get(g) in steps}
+                assert not theirs & after, (name, vp.name, vp.level, i + 1, hints[i])
+                gone = [g for g in shown if g not in after
+                        and L._off_edges(shown[g], np.vstack(edges))]
+                assert set(gone) <= theirs and gone, (name, vp.name, vp.level, i + 1)
+                seen += 1
+    assert seen >= 10
+
+
+
+def test_an_erase_hint_never_counts_the_floor_line_printed_on_the_sheet():
+    # the train's wheel step counted the printed floor line among "2 guide lines" to erase
+    # (no one erases print): a step whose only guides gone are printed ones says nothing
+    # of them, and a count is of guides the reader drew
+    from pathlib import Path
+
+    from h2s_print.config import load_tutorial
+    from h2s_print.pipeline import plan_tutorial
+
+    t = load_tutorial(Path(__file__).resolve().parents[1] / "configs" / "train.yaml")
+    checked = 0
+    for vp in plan_tutorial(t).views:
+        hints = L._erase_hints(vp)
+        for i in range(len(vp.steps) - 1):
+            after = {g.id for g, _ in L._step_guides(vp, i + 1)}
+            gone = [g for g, _ in L._step_guides(vp, i) if g.id not in after]
+            drawn = [g for g in gone if g.role != "sheet"]
+            if any(g.role == "sheet" for g in gone):
+                checked += 1
+                n = re.search(r"(\d+) (?:more )?guide line", hints[i])
+                assert not n or int(n.group(1)) <= len(drawn), (vp.name, vp.level, i + 1)
+                assert drawn or not hints[i], (vp.name, vp.level, i + 1, hints[i])
+    assert checked >= 2
