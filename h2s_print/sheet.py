@@ -795,7 +795,9 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
             place([([t], []) for t in texts])
     ticks = vp_ticks(plan, frame, items, shadow)
     if labels_near and _unticked(plan, frame, ticks):  # the labels beside their arrows took
-        # the room of a far point's ticks: a ruler through ticks matters more
+        # the room of a far point's ticks: a ruler through ticks matters more (but not for
+        # ticks bracketing the drawing, which vp_ticks tries first: a label far from its
+        # arrow read as naming a tick, and the mixer's sheet lost one bracket to the labels)
         return lay_out_sheet(title, plan, margin_mm=margin_mm, view_label=view_label,
                              ground_mm=ground_mm, grid=grid, drawing=drawing,
                              labels_near=False)
@@ -821,6 +823,11 @@ TICK_PAIRS_KEPT = 4
 #: ... and from every other tick on the frame (a read-through found the camera's L1 and R5
 #: ticks 3 mm apart, each name beside the other's tick)
 TICK_GAP_MM = 6.0
+#: The first lines tried pass this far (mm, at the drawing's middle) outside the drawing on
+#: either side, then twice, three times ... as far where a tick is in the way
+#: (:func:`vp_ticks`).
+TICK_BRACKET_MM = 4.0
+TICK_BRACKET_TRIES = 16
 
 
 def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
@@ -862,13 +869,28 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
     # on that point's own label or arrow).  At most TICK_PAIRS_KEPT pairs a point, taken in
     # turns, one a point a round: enough to aim by, and room for every point's ticks (the
     # camera's high-right sheet: seven pairs of the side points left none for the one below).
-    far: list[tuple[Any, Pt, str, list[float], list[float], float]] = []
+    # Bracketing first: the sheet says a line from a corner "runs between its two nearest
+    # faint lines", so the first lines tried pass just outside the drawing on either side
+    # (a few tries further out each, where a tick is in the way), then through its middle;
+    # evenly spread over the frame, both of the camera's L lines passed below its whole
+    # drawing and every line toward that point had to be guessed beyond the last (a
+    # read-through).
+    far: list[tuple[Any, Pt, str, list[list[float]], list[float], float]] = []
+    ends = (np.asarray(drawing, dtype=float).reshape(-1, 2) if drawing is not None
+            else np.zeros((0, 2)))
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
         if not _off_frame(vp, frame):  # at infinity, or on the sheet: a ruler reaches it
             continue
         v = (float(vp.xy_mm[0]), float(vp.xy_mm[1]))
         lo, hi = _seen_span(np.asarray(v), np.asarray(corners, dtype=float))
-        first = [lo + (k + 0.5) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS)]
+        first = [[a] for a in (lo + (k + 0.5) / TICK_PAIRS * (hi - lo)
+                               for k in _spread(TICK_PAIRS))]
+        if len(ends):
+            d_lo, d_hi = _seen_span(np.asarray(v), ends)
+            step = TICK_BRACKET_MM / float(np.linalg.norm(ends.mean(axis=0) - v))
+            first = [[d_lo - k * step for k in range(1, TICK_BRACKET_TRIES + 1)],
+                     [d_hi + k * step for k in range(1, TICK_BRACKET_TRIES + 1)],
+                     [(d_lo + d_hi) / 2]] + first
         between = [lo + (k + 1) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS - 1)]
         far.append((vp, v, _t(f"sheet.tick_names.{vp_side(vp, centre)}"), first, between,
                     max(math.dist(v, c) for c in corners)))
@@ -881,18 +903,22 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
             mine = kept[vp.axis]
             if len(mine) >= TICK_PAIRS_KEPT:
                 continue
-            while first or (len(mine) < 2 and between):
-                a = (first or between).pop(0)
-                made = _tick_pair(v, a, reach, frame, corners, centre, taken,
-                                  np.vstack([lines, np.asarray(marks).reshape(-1, 4)]), prefix)
-                # a tick keeps TICK_GAP_MM from every other, so no name sits by the wrong one
-                if made is not None and all(math.dist(p, (m[0], m[1])) >= TICK_GAP_MM
-                                            for p, _, _ in made for m in marks):
-                    mine.append((a, made))
-                    taken += [tx.box_mm for _, _, tx in made]
-                    marks += [(p[0], p[1], q[0], q[1]) for p, q, _ in made]
-                    moved = True
-                    break
+            found = False
+            while not found and (first or (len(mine) < 2 and between)):
+                group = first.pop(0) if first else [between.pop(0)]
+                for a in group:  # (a bracket's tries, nearest the drawing first)
+                    made = _tick_pair(v, a, reach, frame, corners, centre, taken,
+                                      np.vstack([lines, np.asarray(marks).reshape(-1, 4)]),
+                                      prefix)
+                    # a tick keeps TICK_GAP_MM from every other, so no name sits by the
+                    # wrong one
+                    if made is not None and all(math.dist(p, (m[0], m[1])) >= TICK_GAP_MM
+                                                for p, _, _ in made for m in marks):
+                        mine.append((a, made))
+                        taken += [tx.box_mm for _, _, tx in made]
+                        marks += [(p[0], p[1], q[0], q[1]) for p, q, _ in made]
+                        moved = found = True
+                        break
     for vp, _, prefix, *_ in far:
         n = 0
         for _, made in sorted(kept[vp.axis], key=lambda am: am[0]):  # numbered along the frame

@@ -1613,3 +1613,66 @@ def test_an_erase_hint_never_counts_the_floor_line_printed_on_the_sheet():
                 assert not n or int(n.group(1)) <= len(drawn), (vp.name, vp.level, i + 1)
                 assert drawn or not hints[i], (vp.name, vp.level, i + 1, hints[i])
     assert checked >= 2
+
+
+def test_sheet_ticks_bracket_the_drawing_toward_each_vanishing_point(examples):
+    # the sheet's rule: a line toward a far vanishing point "runs between its two nearest
+    # faint lines"; on the camera's high-right sheet both L lines passed below the whole
+    # drawing (a read-through), so every line toward that point was guessed beyond the last.
+    # Where a line just outside the drawing can cross the frame for a ruler (a chord as long
+    # as the ticks need, its ends clear of the green corners), the ticks' lines pass on that
+    # side of the finished drawing; checked from the angles at the vanishing point of the
+    # ticks' lines and of the drawing's points
+    import math
+
+    from h2s_print.layout import _final_strokes, lay_out_workbook
+    from h2s_print.sheet import _clip_segment
+
+    possible = bracketed = 0
+    for name, (t, plan, views) in examples.items():
+        for (view, level), vp in views.items():
+            if level != "novice":
+                continue
+            sheet = next(p for p in lay_out_workbook(t.title, vp, t.paper, view_label=view)
+                         if p.kind == "sheet")
+            frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
+            corners = [(frame[0], frame[1]), (frame[2], frame[1]), (frame[2], frame[3]),
+                       (frame[0], frame[3])]
+            pts = np.array([q for s in _final_strokes(vp, None) for q in s.points_mm], float)
+            items = list(sheet.items)
+            ticks: dict[str, list] = {}
+            for a, b in zip(items, items[1:]):
+                if isinstance(a, L.Polyline) and a.role == "vp_tick":
+                    ticks.setdefault(b.string, []).append(np.asarray(a.points_mm[0]))
+            for v in vp.vanishing_points:
+                if v.at_infinity or v.xy_mm is None:
+                    continue
+                o = np.asarray(v.xy_mm, float)
+                if frame[0] <= o[0] <= frame[2] and frame[1] <= o[1] <= frame[3]:
+                    continue
+                mid = math.atan2(*(pts.mean(axis=0) - o)[::-1])
+
+                def angle(p, o=o, mid=mid):
+                    a = math.atan2(p[1] - o[1], p[0] - o[0]) - mid
+                    return (a + math.pi) % (2 * math.pi) - math.pi
+
+                def markable(a, o=o, mid=mid):  # a ruler's line at angle a (from mid)
+                    d = (math.cos(mid + a), math.sin(mid + a))
+                    hit = _clip_segment(tuple(o), (o[0] + 1e4 * d[0], o[1] + 1e4 * d[1]), frame)
+                    return hit is not None and math.dist(*hit) >= S.TICK_CHORD * min(
+                        frame[2] - frame[0], frame[3] - frame[1]) and all(
+                        math.dist(p, c) >= S.TICK_CORNER_MM for p in hit for c in corners)
+
+                lines = [angle((e[0] + e[1]) / 2) for e in ticks.values() if len(e) == 2
+                         and abs(float(np.cross(np.append(e[1] - e[0], 0), np.append(o - e[0], 0))[2]))
+                         <= 1e-9 * np.linalg.norm(e[1] - e[0]) * np.linalg.norm(o - e[0])]
+                seen = [angle(p) for p in pts]
+                for side, beyond in ((min(seen), lambda x, s=min(seen): x < s),
+                                     (max(seen), lambda x, s=max(seen): x > s)):
+                    out = side + (0.02 if beyond(side + 0.02) else -0.02)
+                    if markable(out):
+                        possible += 1
+                        bracketed += any(beyond(x) for x in lines)
+    # 2026-11-29: 16 of 20 sides where a ruler's line fits (before: 7); the others' ticks
+    # would sit on the labels beside the arrows, which keep their place
+    assert possible >= 15 and bracketed >= possible - 4, (bracketed, possible)
