@@ -741,3 +741,24 @@ def test_catalogue_ratios_ascend():
     from h2s_print.ratios import CATALOGUE
     ratios = [e.ratio for e in CATALOGUE]
     assert ratios == sorted(ratios) and len(set(ratios)) == len(ratios)
+
+
+@pytest.mark.parametrize("weights", [(1.0, 1.0), (1.0, 0.0), (0.0, 1.0)])
+def test_cheapest_first_is_sorted_by_cost_and_key(weights):
+    """_cheapest_first (sort keys only among equal costs) orders candidates as sorting them
+    by (weighted cost, _cand_sort_key) does, ties of both by their place: on the generated
+    assembly's candidates (weights that tie many costs too), each twice, shuffled."""
+    import random
+
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model("shared-faces")
+    cands = list(generate_candidates(prims, rels, SolverSettings())) * 2
+    random.Random(3).shuffle(cands)
+    w_a, w_d = weights
+    want = sorted(range(len(cands)),
+                  key=lambda i: (cands[i].cost(w_a, w_d), C._cand_sort_key(cands[i])))
+    got = C._cheapest_first(cands, w_a, w_d)
+    assert got == want
+    costs = [c.cost(w_a, w_d) for c in cands]
+    assert len(set(costs)) < len(costs) / 2  # ties to break
