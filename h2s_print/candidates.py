@@ -551,6 +551,16 @@ def _axis_cost(orig: Box, axis: int, lo: float, hi: float, n_free_ends: int) -> 
     return d_len + d_mid + float(n_free_ends)
 
 
+def _cost_of_axis(terms: tuple[float, float, float], lo: float, hi: float,
+                  n_free_ends: int) -> float:
+    """:func:`_axis_cost` from the input box's terms of the axis (``_Generator.axis_terms``):
+    the same expressions in the same order, so the same cost to the last bit."""
+    if n_free_ends >= 2:
+        return 2.0
+    length, extent, mid = terms
+    return abs((hi - lo) - extent) / length + abs(0.5 * (lo + hi) - mid) / length + float(n_free_ends)
+
+
 def _change_terms(orig: Box, axis: int, max_change: float) -> tuple[float, float, float]:
     """The per-part terms of :func:`_within_change`: the limit before rounding slack, the
     input interval's length and midpoint."""
@@ -823,25 +833,24 @@ class _Generator:
         :func:`_axis_cost` summed over the axes, its input box's terms found once per part
         (the same expressions in the same order, so the same E_d: the test's reference sums
         ``_axis_cost`` itself)."""
-        terms = self.ctx.axis_terms.get(part)
-        if terms is None:
-            orig = self.ctx.prims[part].box
-            terms = self.ctx.axis_terms[part] = tuple(
-                (_norm_length(orig, ax), _extent(orig, ax), _mid(orig, ax)) for ax in range(3))
+        terms = self.axis_terms(part)
         ends: tuple[set[str], set[str], set[str]] = (set(), set(), set())
         for a in anchors:
             ends[a.axis].add(a.end)
         total = 0.0
         for axis in range(3):
-            n_free = 2 - len(ends[axis])
-            if n_free >= 2:
-                total += 2.0
-                continue
-            length, extent, mid = terms[axis]
-            lo, hi = box[0][axis], box[1][axis]
-            total += (abs((hi - lo) - extent) / length + abs(0.5 * (lo + hi) - mid) / length
-                      + float(n_free))
+            total += _cost_of_axis(terms[axis], box[0][axis], box[1][axis], 2 - len(ends[axis]))
         return total
+
+    def axis_terms(self, part: str) -> tuple[tuple[float, float, float], ...]:
+        """Per axis of ``part``'s input box, the terms of :func:`_axis_cost` (L, length,
+        midpoint), found once per part."""
+        terms = self.ctx.axis_terms.get(part)
+        if terms is None:
+            orig = self.ctx.prims[part].box
+            terms = self.ctx.axis_terms[part] = tuple(
+                (_norm_length(orig, ax), _extent(orig, ax), _mid(orig, ax)) for ax in range(3))
+        return terms
 
     def build(self, part: str, box: Box, anchors: Sequence[Anchor],
               extra_parents: Sequence[str] = (),
@@ -1201,8 +1210,9 @@ class _Generator:
         if total is not None:
             kept_at = np.sort(kept_at[np.lexsort((kept_at, place[kept_at]))][:total])
         rows = order[kept_at].tolist()
+        terms = self.axis_terms(part)[axis]
         return [self._option(pool, int(first[x]), int(second[x]), float(los[x]),
-                             float(his[x]), int(free[x]), axis, orig) for x in rows]
+                             float(his[x]), int(free[x]), axis, terms) for x in rows]
 
     def ranked_few(self, part: str, axis: int, pool: Sequence[_End], n_lo: int, n_hi: int,
                    fresh: frozenset[str], per_group: int, total: int | None
@@ -1249,7 +1259,7 @@ class _Generator:
 
         def keeps(pid: str, lo: float, hi: float) -> bool:
             rels, p_lo, p_hi = checks[pid]
-            return all(_relation_axis_holds(rel, axis, lo, hi, p_lo, p_hi) if rel.a == part
+            return not rels or all(_relation_axis_holds(rel, axis, lo, hi, p_lo, p_hi) if rel.a == part
                        else _relation_axis_holds(rel, axis, p_lo, p_hi, lo, hi) for rel in rels)
 
         keys = [_anchor_key(e.anchor) for e in pool]
@@ -1294,12 +1304,14 @@ class _Generator:
             if place < per_group:
                 kept.append((place, at))
         chosen = sorted(at for _, at in (sorted(kept)[:total] if total is not None else kept))
-        return [self._option(pool, i, j, lo, hi, int(free), axis, orig)
+        terms = self.axis_terms(part)[axis]
+        return [self._option(pool, i, j, lo, hi, int(free), axis, terms)
                 for i, j, lo, hi, free in (ranked[at][1] for at in chosen)]
 
     def _option(self, pool: Sequence[_End], i: int, j: int, lo: float, hi: float, free: int,
-                axis: int, orig: Box) -> _AxisOption:
-        """The :class:`_AxisOption` of ends ``i`` (and ``j``, or -1) of ``pool``."""
+                axis: int, terms: tuple[float, float, float]) -> _AxisOption:
+        """The :class:`_AxisOption` of ends ``i`` (and ``j``, or -1) of ``pool``; ``terms``
+        the axis's terms of its cost (``axis_terms``)."""
         if j < 0:
             used: tuple[_End, ...] = (pool[i],)
         elif j == i:  # a flat axis: the end and its twin
@@ -1310,7 +1322,7 @@ class _Generator:
         parents = tuple(sorted({(u.parent_part, u.anchor.parent) for u in used}))
         return _AxisOption(
             lo=lo, hi=hi, anchors=tuple(u.anchor for u in used),
-            cost_adjust=_axis_cost(orig, axis, lo, hi, free), parents=parents,
+            cost_adjust=_cost_of_axis(terms, lo, hi, free), parents=parents,
             areas=tuple(((u.anchor.parent, axis, u.anchor.face_normal, u.anchor.face_side),
                          u.face_area) for u in used))
 

@@ -762,3 +762,26 @@ def test_cheapest_first_is_sorted_by_cost_and_key(weights):
     assert got == want
     costs = [c.cost(w_a, w_d) for c in cands]
     assert len(set(costs)) < len(costs) / 2  # ties to break
+
+
+def test_cost_of_axis_is_axis_cost():
+    """The axis cost from a part's terms found once (``axis_terms``, ``_cost_of_axis``: the
+    options' and E_d's) is ``_axis_cost`` of the input box, to the last bit: every axis of a
+    generated assembly and of a flat part (its zero-length axis), free ends 0, 1 and 2."""
+    import random
+
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model("shared-faces")
+    prims = [*prims, prim("sheet", (0.0, 0.0, 1.0), (7.0, 3.0, 1.0))]
+    gen = C._Generator(C._context(prims, rels, SolverSettings()))
+    rng = random.Random(5)
+    for p in prims:
+        for axis in range(3):
+            lo0, hi0 = p.box[0][axis], p.box[1][axis]
+            for _ in range(30):
+                lo = lo0 + rng.uniform(-1.0, 1.0) / 3
+                hi = max(lo, hi0 + rng.uniform(-1.0, 1.0) / 7)
+                for free in (0, 1, 2):
+                    assert (C._cost_of_axis(gen.axis_terms(p.part)[axis], lo, hi, free)
+                            == C._axis_cost(p.box, axis, lo, hi, free)), (p.part, axis)
