@@ -581,16 +581,17 @@ def _bound(gen, part, combo):
 @pytest.mark.parametrize("model", ["camera", "shared-faces"])
 def test_build_costs_and_bounds_equal_the_definitions(model, monkeypatch):
     """build's E_d (the options' axis costs summed, or from per-part terms when a cylinder
-    was rounded) is ``_adjust_cost`` of every candidate built, and ``bounds`` (each
-    option's E_e found once) is ``bound`` combination by combination, to the last bit."""
+    was rounded) is ``_adjust_cost`` of every candidate built, and ``bounds`` (from each
+    option's facts, found once) is ``bound`` combination by combination, to the last bit."""
     from h2s_print import candidates as C
 
     prims, rels = _generator_model(model)
-    build, bounds = C._Generator.build, C._Generator.bounds
+    make, bounds, cheapest = C._Generator.make, C._Generator.bounds, C._Generator.build_cheapest
     seen = {"adjust": 0, "bounds": 0}
+    asked = []  # the combinations of the build_cheapest call under way
 
-    def build_checked(self, part, box, anchors, extra_parents=(), axis_costs=None):
-        got = build(self, part, box, anchors, extra_parents, axis_costs)
+    def make_checked(self, part, box, anchors, *args):
+        got = make(self, part, box, anchors, *args)
         if got is not None:
             cand = got[0]
             want = _adjust_cost(self.ctx.prims[part].box, cand.box, anchors)
@@ -598,16 +599,52 @@ def test_build_costs_and_bounds_equal_the_definitions(model, monkeypatch):
             seen["adjust"] += 1
         return got
 
-    def bounds_both(self, part, combos):
-        got = bounds(self, part, combos)
-        assert got == [_bound(self, part, c) for c in combos], part
+    def cheapest_noted(self, part, combos, *args):
+        asked.append(combos)
+        return cheapest(self, part, combos, *args)
+
+    def bounds_both(self, part, rows):
+        got = bounds(self, part, rows)
+        assert got == [_bound(self, part, c) for c in asked[-1]], part
         seen["bounds"] += len(got)
         return got
 
-    monkeypatch.setattr(C._Generator, "build", build_checked)
+    monkeypatch.setattr(C._Generator, "make", make_checked)
+    monkeypatch.setattr(C._Generator, "build_cheapest", cheapest_noted)
     monkeypatch.setattr(C._Generator, "bounds", bounds_both)
     generate_candidates(prims, rels, SolverSettings())
     assert seen["adjust"] > 10 and seen["bounds"] > 10
+
+
+@pytest.mark.parametrize("model", ["camera", "shared-faces"])
+def test_make_reads_the_anchors_as_build_does(model, monkeypatch):
+    """What build_cheapest puts together from its options' facts for ``make`` is what
+    ``build`` reads off the combination's anchors: the parent ids sorted (the extra parents
+    too), the anchors sorted by their keys, the unguided axes and the anchors' codes; and
+    codes are equal exactly when anchors are."""
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model(model)
+    make = C._Generator.make
+    seen = []
+
+    def checked(self, part, box, anchors, parent_ids, ordered, unguided, codes, axis_costs):
+        axes = {a.axis for a in anchors}
+        assert ordered == tuple(sorted(anchors, key=C._anchor_key)), part
+        assert unguided == tuple(ax for ax in range(3) if ax not in axes), part
+        assert codes == self.codes(anchors), part
+        assert [self.ctx.anchor_faces[c] for c in codes] == [C._anchor_face(a) for a in anchors]
+        assert parent_ids == tuple(sorted(parent_ids))
+        assert {a.parent for a in anchors} <= set(parent_ids), part
+        seen.append(len(anchors))
+        return make(self, part, box, anchors, parent_ids, ordered, unguided, codes, axis_costs)
+
+    monkeypatch.setattr(C._Generator, "make", checked)
+    gen = C._Generator(C._context(prims, rels, SolverSettings()))
+    gen.run()
+    assert len(seen) > 10 and max(seen) > 1
+    table = gen.ctx.anchor_codes
+    assert sorted(table.values()) == list(range(len(table)))  # one code per distinct anchor
 
 
 def test_ranked_few_equals_the_arrays(monkeypatch):
@@ -704,3 +741,47 @@ def test_catalogue_ratios_ascend():
     from h2s_print.ratios import CATALOGUE
     ratios = [e.ratio for e in CATALOGUE]
     assert ratios == sorted(ratios) and len(set(ratios)) == len(ratios)
+
+
+@pytest.mark.parametrize("weights", [(1.0, 1.0), (1.0, 0.0), (0.0, 1.0)])
+def test_cheapest_first_is_sorted_by_cost_and_key(weights):
+    """_cheapest_first (sort keys only among equal costs) orders candidates as sorting them
+    by (weighted cost, _cand_sort_key) does, ties of both by their place: on the generated
+    assembly's candidates (weights that tie many costs too), each twice, shuffled."""
+    import random
+
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model("shared-faces")
+    cands = list(generate_candidates(prims, rels, SolverSettings())) * 2
+    random.Random(3).shuffle(cands)
+    w_a, w_d = weights
+    want = sorted(range(len(cands)),
+                  key=lambda i: (cands[i].cost(w_a, w_d), C._cand_sort_key(cands[i])))
+    got = C._cheapest_first(cands, w_a, w_d)
+    assert got == want
+    costs = [c.cost(w_a, w_d) for c in cands]
+    assert len(set(costs)) < len(costs) / 2  # ties to break
+
+
+def test_cost_of_axis_is_axis_cost():
+    """The axis cost from a part's terms found once (``axis_terms``, ``_cost_of_axis``: the
+    options' and E_d's) is ``_axis_cost`` of the input box, to the last bit: every axis of a
+    generated assembly and of a flat part (its zero-length axis), free ends 0, 1 and 2."""
+    import random
+
+    from h2s_print import candidates as C
+
+    prims, rels = _generator_model("shared-faces")
+    prims = [*prims, prim("sheet", (0.0, 0.0, 1.0), (7.0, 3.0, 1.0))]
+    gen = C._Generator(C._context(prims, rels, SolverSettings()))
+    rng = random.Random(5)
+    for p in prims:
+        for axis in range(3):
+            lo0, hi0 = p.box[0][axis], p.box[1][axis]
+            for _ in range(30):
+                lo = lo0 + rng.uniform(-1.0, 1.0) / 3
+                hi = max(lo, hi0 + rng.uniform(-1.0, 1.0) / 7)
+                for free in (0, 1, 2):
+                    assert (C._cost_of_axis(gen.axis_terms(p.part)[axis], lo, hi, free)
+                            == C._axis_cost(p.box, axis, lo, hi, free)), (p.part, axis)
