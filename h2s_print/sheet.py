@@ -827,7 +827,11 @@ TICK_GAP_MM = 6.0
 #: either side, then twice, three times ... as far where a tick is in the way
 #: (:func:`vp_ticks`).
 TICK_BRACKET_MM = 4.0
-TICK_BRACKET_TRIES = 16
+TICK_BRACKET_TRIES = 40
+#: ... and a line is not tried within this share of the drawing's angle (the frame's without
+#: one) of a line kept toward the same point: the camera's L1 and L2 ran 8 mm apart below
+#: its drawing, where one above it was wanted
+TICK_SPREAD = 0.2
 
 
 def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
@@ -875,7 +879,7 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
     # evenly spread over the frame, both of the camera's L lines passed below its whole
     # drawing and every line toward that point had to be guessed beyond the last (a
     # read-through).
-    far: list[tuple[Any, Pt, str, list[list[float]], list[float], float]] = []
+    far: list[tuple[Any, Pt, str, list[list[float]], list[float], float, float]] = []
     ends = (np.asarray(drawing, dtype=float).reshape(-1, 2) if drawing is not None
             else np.zeros((0, 2)))
     for vp in sorted(plan.vanishing_points, key=lambda v: v.axis):
@@ -885,21 +889,23 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
         lo, hi = _seen_span(np.asarray(v), np.asarray(corners, dtype=float))
         first = [[a] for a in (lo + (k + 0.5) / TICK_PAIRS * (hi - lo)
                                for k in _spread(TICK_PAIRS))]
+        sep = TICK_SPREAD * (hi - lo)
         if len(ends):
             d_lo, d_hi = _seen_span(np.asarray(v), ends)
             step = TICK_BRACKET_MM / float(np.linalg.norm(ends.mean(axis=0) - v))
             first = [[d_lo - k * step for k in range(1, TICK_BRACKET_TRIES + 1)],
                      [d_hi + k * step for k in range(1, TICK_BRACKET_TRIES + 1)],
                      [(d_lo + d_hi) / 2]] + first
+            sep = TICK_SPREAD * (d_hi - d_lo)
         between = [lo + (k + 1) / TICK_PAIRS * (hi - lo) for k in _spread(TICK_PAIRS - 1)]
         far.append((vp, v, _t(f"sheet.tick_names.{vp_side(vp, centre)}"), first, between,
-                    max(math.dist(v, c) for c in corners)))
+                    max(math.dist(v, c) for c in corners), sep))
     kept: dict[int, list[tuple[float, list[tuple[Pt, Pt, Text]]]]] = {
         vp.axis: [] for vp, *_ in far}
     moved = True
     while moved:
         moved = False
-        for vp, v, prefix, first, between, reach in far:
+        for vp, v, prefix, first, between, reach, sep in far:
             mine = kept[vp.axis]
             if len(mine) >= TICK_PAIRS_KEPT:
                 continue
@@ -907,6 +913,9 @@ def vp_ticks(plan: ViewPlan, frame: Box2, items: Sequence[Item],
             while not found and (first or (len(mine) < 2 and between)):
                 group = first.pop(0) if first else [between.pop(0)]
                 for a in group:  # (a bracket's tries, nearest the drawing first)
+                    if any(abs((a - b + math.pi) % (2 * math.pi) - math.pi) < sep
+                           for b, _ in mine):
+                        continue  # beside a line kept: it would add little to aim by
                     made = _tick_pair(v, a, reach, frame, corners, centre, taken,
                                       np.vstack([lines, np.asarray(marks).reshape(-1, 4)]),
                                       prefix)

@@ -1673,6 +1673,6 @@ def test_sheet_ticks_bracket_the_drawing_toward_each_vanishing_point(examples):
                     if markable(out):
                         possible += 1
                         bracketed += any(beyond(x) for x in lines)
-    # 2026-11-29: 16 of 20 sides where a ruler's line fits (before: 7); the others' ticks
+    # 2026-11-29: 17 of 20 sides where a ruler's line fits (before: 7); the others' ticks
     # would sit on the labels beside the arrows, which keep their place
     assert possible >= 15 and bracketed >= possible - 4, (bracketed, possible)
