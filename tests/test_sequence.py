@@ -3331,11 +3331,14 @@ def test_the_floor_under_a_hanging_part_s_middle_is_constructed(examples):
             at2 = {lb.name: np.asarray(lb.at_mm, float) for lb in s.labels}
             for x in s.substeps:
                 got = re.match(r"From ([A-Z]'*),(?: the blue floor line's foot,)? draw "
-                               r"\1([A-Z]'*) .*: \2, below ([A-Z]'*), is the middle of its "
-                               r"bottom\.$", x)
+                               r"\1([A-Z]'*) .*; from ([A-Z]'*), draw a line .* to it: \2, "
+                               r"where they meet, is the middle of its bottom\.$", x)
                 if not got:
                     continue
                 st, end, top = got.groups()
+                # the line down from the meeting point is drawn on the step's picture
+                assert any(np.allclose(g.from3d, at3[top]) and np.allclose(g.to3d, at3[end])
+                           for g in s.guides if g.status == "new"), (level, x)
                 assert at3[end] == pytest.approx([*box[:, :2].mean(axis=0), floor], abs=1e-9)
                 assert at3[top][:2] == pytest.approx(at3[end][:2], abs=1e-9)
                 assert at3[top][2] > box[1][2]  # the meeting point, above the handle

@@ -442,8 +442,11 @@ class _Context(_Repeats, _Ellipses):
                               vp=words.vp(b, F, S), end=Pts((S,))) if moved_a else
                          spec("floor_line_end" + ("_middle" if middle else ""),
                               line=Pts((F, S)), point=Pts((F,)), vp=words.vp(b, F, S),
-                              end=Pts((S,)), through=Pts((Q,))))
+                              end=Pts((S,)), through=Pts((Q,)),
+                              **({"vp2": words.vp(2, Q, S)} if middle else {})))
             out.append(_Line("vanishing", F, S))
+            if middle and not moved_a:  # the line down from Q that finds it (below)
+                out.append(_Line("vanishing", Q, S))
             if moved_a:
                 specs.append(spec("floor_drop_corner" if along else "floor_drop",
                                   line=Pts((R, S)), point=Pts((R,)), other=Pts((F, S)),
@@ -453,8 +456,14 @@ class _Context(_Repeats, _Ellipses):
             start = S if moved_b else F
             specs.append(spec("floor_back" + ("_middle" if middle else ""),
                               line=Pts((start, T)), point=Pts((start,)),
-                              vp=words.vp(a, start, T), end=Pts((T,)), through=Pts((Q,))))
+                              vp=words.vp(a, start, T), end=Pts((T,)), through=Pts((Q,)),
+                              **({"vp2": words.vp(2, Q, T)} if middle else {})))
             out.append(_Line("vanishing", start, T))
+            if middle:  # the middle of the bottom is no corner a box edge drops to: the line
+                # down from the meeting point finds it ("V, below Q" named a point no line
+                # gave, a read-through of the roller's handle); in space, as the floor's
+                # other lines (the role the picture shows every level that draws lines)
+                out.append(_Line("vanishing", Q, T))
             result = (start, T)
         return _Unit(first, specs, out, [result], floor=True, floor_middle=middle)
 
