@@ -1757,12 +1757,14 @@ def _instruction(x: float, top: float, width: float, step: Step, size: float
 
 
 def _erase_hints(plan: ViewPlan) -> list[str]:
-    """Every step's :func:`_erase_hint`, the scaffold edges gathered once as the steps go."""
+    """Every step's :func:`_erase_hint`, the scaffold edges gathered once as the steps go:
+    those drawn by the step and before, and by the next step too (a guide the next step's box
+    is drawn on is not erased only to be drawn again: the roller's "2 guide lines" after
+    step 8 ran where step 9 draws the riser's edges, a read-through)."""
     out: list[str] = []
-    edges: list[np.ndarray] = []
-    for i, step in enumerate(plan.steps):
-        edges.append(_step_edges(step))
-        out.append(_erase_hint(plan, i, np.vstack(edges)))
+    edges = [_step_edges(step) for step in plan.steps]
+    for i in range(len(plan.steps)):
+        out.append(_erase_hint(plan, i, np.vstack(edges[:i + 2])))
     return out
 
 
@@ -1776,8 +1778,9 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     lines: the next picture no longer shows them.").  The floor line printed on the sheet is
     never among them (no one erases print; the count took it for a line to erase).  A guide that runs along an
     edge of the scaffold is erased only beyond it (the mixer's KU along the column's edge KL
-    is "LU"), and not at all when it lies on the edge whole (:func:`_off_edges`).  ``edges``: the scaffold edges drawn by
-    step ``i`` (:func:`_erase_hints` gathers them)."""
+    is "LU"), and not at all when it lies on the edge whole (:func:`_off_edges`).  ``edges``:
+    the scaffold edges drawn by step ``i`` and the next (:func:`_erase_hints` gathers
+    them)."""
     if i + 1 >= len(plan.steps):
         return ""
     later = {g.id for g, _ in _step_guides(plan, i + 1)}
