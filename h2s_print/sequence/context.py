@@ -800,11 +800,11 @@ class _Context(_Repeats, _Ellipses):
         words = self._step_words[key] = len(headline.split()) + subs
         return words
 
-    def said_lines(self, specs: Sequence[Spec]) -> set:
+    def said_lines(self, specs: Sequence[Spec]) -> set[frozenset]:
         """The lines (:func:`points_key`) sub-steps draw (:func:`drawn_fields`) or cite
         ("Use diagonals CB and DA from step 3"): a step names them again without a step
         ("Draw DV; it crosses CB at K.")."""
-        out = set()
+        out: set[frozenset] = set()
         for x in specs:
             f = dict(x.fields)
             names = f if "step" in f else drawn_fields(x.key)
@@ -1280,7 +1280,7 @@ class _Context(_Repeats, _Ellipses):
         roller's frame shaft walked to its line in 70 words; with "(step 2)" its turn went
         by eye)."""
         drawn: list[tuple[int, Vec3, Vec3]] = []  # (first step, start, end), steps in order
-        seen: set = set()
+        seen: set[frozenset] = set()
         for k, d in enumerate(drafts):
             for ln in d.lines:
                 key = points_key((ln.start, ln.end), self.tol)
