@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 import logging
 import math
+from collections import Counter
 from dataclasses import replace
 from typing import Any, Iterable, Iterator, Sequence
 
@@ -794,13 +795,21 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         elif keep:  # the footprint's name is never left out
             place([([t], []) for t in texts])
     ticks = vp_ticks(plan, frame, items, shadow)
-    if labels_near and _unticked(plan, frame, ticks):  # the labels beside their arrows took
-        # the room of a far point's ticks: a ruler through ticks matters more (but not for
-        # ticks bracketing the drawing, which vp_ticks tries first: a label far from its
-        # arrow read as naming a tick, and the mixer's sheet lost one bracket to the labels)
-        return lay_out_sheet(title, plan, margin_mm=margin_mm, view_label=view_label,
-                             ground_mm=ground_mm, grid=grid, drawing=drawing,
-                             labels_near=False)
+    if labels_near and _unticked(plan, frame, ticks, 2, TAPE_REACH_MM):
+        # the labels beside their arrows took the room of a far point's ticks (or of all but
+        # one pair, and one line is none to aim between: the train's front-left sheet had R1
+        # alone, below its drawing, and its right vanishing point 649 mm off, a
+        # read-through): a ruler through ticks matters more, where the labels elsewhere
+        # leave room for more; for a point paper taped on reaches, the labels stay beside
+        # their arrows (one far from its arrow read as naming a tick: the mixer's "vertical
+        # edges" 51 mm from its arrow, for its right point 208 mm off)
+        other = lay_out_sheet(title, plan, margin_mm=margin_mm, view_label=view_label,
+                              ground_mm=ground_mm, grid=grid, drawing=drawing,
+                              labels_near=False)
+        if _unticked(plan, frame, ticks) or not _unticked(
+                plan, frame, [it for it in other.items if isinstance(it, Text)], 2,
+                TAPE_REACH_MM):
+            return other
     items += _beside_heading(ticks, items)
     if grid:  # the grid stops short of every label, so no text is read through its lines
         boxes = [it.box_mm for it in items if isinstance(it, Text) and it.string]
@@ -1018,16 +1027,28 @@ def _off_frame(vp: Any, frame: Box2) -> bool:
     return not (frame[0] <= x <= frame[2] and frame[1] <= y <= frame[3])
 
 
-def _unticked(plan: ViewPlan, frame: Box2, ticks: Sequence[Item]) -> bool:
-    """Does a vanishing point off the frame (not at infinity) have no tick (:func:`vp_ticks`)
-    among ``ticks``?"""
+#: A vanishing point this far off the frame (mm) is beyond a sheet of paper taped on (an A4
+#: sheet's length): its ticks are the only way to aim at it (:func:`lay_out_sheet`).
+TAPE_REACH_MM = 297.0
+
+
+def _unticked(plan: ViewPlan, frame: Box2, ticks: Sequence[Item], pairs: int = 1,
+              beyond_mm: float = 0.0) -> bool:
+    """Does a vanishing point off the frame (not at infinity), more than ``beyond_mm`` from
+    it, have fewer than ``pairs`` tick pairs (:func:`vp_ticks`) among ``ticks``?"""
     w, h = float(plan.paper_mm[0]), float(plan.paper_mm[1])
     centre = (w / 2, h / 2)
+
+    def off(vp: Any) -> float:
+        x, y = float(vp.xy_mm[0]), float(vp.xy_mm[1])
+        return math.hypot(max(frame[0] - x, 0.0, x - frame[2]),
+                          max(frame[1] - y, 0.0, y - frame[3]))
+
     want = {_t(f"sheet.tick_names.{vp_side(vp, centre)}") for vp in plan.vanishing_points
-            if _off_frame(vp, frame)}
-    have = {it.string.rstrip("0123456789") for it in ticks
-            if isinstance(it, Text) and it.role == "vp_tick_label"}
-    return not want <= have
+            if _off_frame(vp, frame) and off(vp) > beyond_mm}
+    have = Counter(it.string.rstrip("0123456789") for it in ticks
+                   if isinstance(it, Text) and it.role == "vp_tick_label")
+    return any(have[name] < 2 * pairs for name in want)  # (two ticks a pair)
 
 
 def _beside_heading(ticks: list[Item], items: list[Item]) -> list[Item]:

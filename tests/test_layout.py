@@ -1721,3 +1721,60 @@ def test_an_erase_hint_leaves_the_guides_the_next_box_is_drawn_on():
                     assert hints[i] == "", (name, vp.name, vp.level, i + 1, hints[i])
                     checked += 1
     assert checked >= 2
+
+
+def test_a_vanishing_point_beyond_taped_paper_gets_two_tick_pairs(examples):
+    # the train's front-left sheet gave its right vanishing point, 649 mm off, the single
+    # pair R1, below its drawing: one line is none to aim between, and no taped-on sheet
+    # reaches that far (a read-through). A point farther off the frame than an A4 sheet's
+    # length gets two pairs at least on every example's novice sheet (its labels moving off
+    # their arrows where they took the room)
+
+    from h2s_print.pipeline import _workbook_pages, plan_tutorial
+
+    far = 0
+    for name in examples:
+        t = examples[name][0]
+        result = plan_tutorial(t)
+        for k, vp in enumerate(result.views):  # the sheets as the workbooks print them
+            if vp.level != "novice":
+                continue
+            sheet = next(p for p in _workbook_pages(result, k) if p.kind == "sheet")
+            far += _far_pairs(name, vp, t, sheet)
+    assert far >= 2
+
+
+def _far_pairs(name, vp, t, sheet) -> int:
+    """test_a_vanishing_point_beyond_taped_paper_gets_two_tick_pairs on one sheet: how many
+    vanishing points it checked."""
+    import math
+
+    far = 0
+    view = vp.name
+    frame = L._frame_box(vp.paper_mm, t.paper.margin_mm)
+    items = list(sheet.items)
+    ticks: dict[str, int] = {}
+    for a, b in zip(items, items[1:]):
+        if isinstance(a, L.Polyline) and a.role == "vp_tick":
+            ticks[b.string] = ticks.get(b.string, 0) + 1
+    for v in vp.vanishing_points:
+        if v.at_infinity or v.xy_mm is None:
+            continue
+        x, y = v.xy_mm
+        off = math.hypot(max(frame[0] - x, 0.0, x - frame[2]),
+                         max(frame[1] - y, 0.0, y - frame[3]))
+        if off <= 297.0:
+            continue
+        o = np.asarray(v.xy_mm, float)
+        pairs = 0
+        for n, count in ticks.items():
+            if count != 2:
+                continue
+            ends = [np.asarray(a.points_mm[0]) for a, b in zip(items, items[1:])
+                    if isinstance(a, L.Polyline) and a.role == "vp_tick" and b.string == n]
+            d = ends[1] - ends[0]
+            pairs += abs(d[0] * (o - ends[0])[1] - d[1] * (o - ends[0])[0]) <= \
+                1e-9 * np.linalg.norm(d) * np.linalg.norm(o - ends[0])
+        assert pairs >= 2, (name, view, v.axis, off, pairs)
+        far += 1
+    return far
