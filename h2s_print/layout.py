@@ -1784,10 +1784,11 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     if i + 1 >= len(plan.steps):
         return ""
     later = {g.id for g, _ in _step_guides(plan, i + 1)}
+    shown = [g for g, _ in _step_guides(plan, i)]
     names: list[str | None] = []
     retired: set[str] = set()  # the guides erased whole (no scaffold edge along them)
     on_edges: set[str] = set()  # those along scaffold edges whole: never erased
-    for g, _ in _step_guides(plan, i):
+    for g in shown:
         if g.id in later or g.role == "sheet":  # (printed on the sheet: no one erases it)
             continue
         pieces = _off_edges(g, edges)
@@ -1803,24 +1804,26 @@ def _erase_hint(plan: ViewPlan, i: int, edges: np.ndarray) -> str:
     if not names:
         return ""
     said = [n for n in names if n is not None]
-    steps = _whole_steps(plan, i, retired, on_edges) if None in names else None
+    steps = (_whole_steps(plan, i, retired, on_edges, {g.id for g in shown})
+             if None in names else None)
     if steps == [i + 1]:
         return plain_text(templates.text("pages", "step.erase_this"))
     if steps:
-        join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
-        numbers = [str(n) for n in steps]
-        listed = (numbers[0] if len(numbers) == 1
-                  else join.join(numbers[:-1]) + last + numbers[-1])
         return plain_text(templates.plural("pages", "step.erase_steps", len(steps),
-                                           steps=listed))
+                                           steps=_listed([str(n) for n in steps])))
     if not said:
         return plain_text(templates.plural("pages", "step.erase", len(names)))
-    join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
     if None in names:  # the lettered ones by name (the template joins the count last)
         return plain_text(templates.plural("pages", "step.erase_more", names.count(None),
-                                           lines=join.join(said)))
-    lines = said[0] if len(said) == 1 else join.join(said[:-1]) + last + said[-1]
-    return plain_text(templates.text("pages", "step.erase_named", lines=lines))
+                                           lines=templates.lookup("steps", "join").join(said)))
+    return plain_text(templates.text("pages", "step.erase_named", lines=_listed(said)))
+
+
+def _listed(items: Sequence[str]) -> str:
+    """``items`` as the wording lists them ("AC, BD and FG"; ``steps.join`` and
+    ``steps.join_last``)."""
+    join, last = templates.lookup("steps", "join"), templates.lookup("steps", "join_last")
+    return items[0] if len(items) == 1 else join.join(items[:-1]) + last + items[-1]
 
 
 #: A guide's piece lies along a scaffold edge when both ends of the edge's segment are
@@ -1841,12 +1844,13 @@ def _step_edges(step: Step) -> np.ndarray:
     return np.vstack(segs) if segs else np.zeros((0, 4))
 
 
-def _whole_steps(plan: ViewPlan, i: int, retired: set[str], on_edges: set[str]
-                 ) -> list[int] | None:
+def _whole_steps(plan: ViewPlan, i: int, retired: set[str], on_edges: set[str],
+                 shown: set[str]) -> list[int] | None:
     """The steps (numbers, in order) whose guide lines still on the paper are exactly the
     guides retiring after step ``i`` (``retired``: their ids, each erased whole, or "" for
     one erased only beyond a scaffold edge, which makes it None; ``on_edges``: retiring
-    guides that lie along scaffold edges whole, which no one erases), or None when they are
+    guides that lie along scaffold edges whole, which no one erases; ``shown``: the ids of
+    the guides step ``i``'s picture shows), or None when they are
     not: "Afterwards you may erase the guide lines of steps 7 and 8." says which lines as the
     pictures show them (each step's picture draws its new guides in their own style), where
     "... ED, FC and 11 more guide lines" left the reader counting (a read-through).  Every
@@ -1862,7 +1866,6 @@ def _whole_steps(plan: ViewPlan, i: int, retired: set[str], on_edges: set[str]
     if not retired <= first.keys():
         return None
     steps = sorted({first[g] for g in retired})
-    shown = {g.id for g, _ in _step_guides(plan, i)}
     drew = {g for g, n in first.items() if n in steps and g in shown} - on_edges
     return steps if drew == retired else None
 

@@ -795,7 +795,8 @@ def lay_out_sheet(title: str, plan: ViewPlan, *, margin_mm: float = 12.0, view_l
         elif keep:  # the footprint's name is never left out
             place([([t], []) for t in texts])
     ticks = vp_ticks(plan, frame, items, shadow)
-    if labels_near and _unticked(plan, frame, ticks, 2, TAPE_REACH_MM):
+    if labels_near and (_unticked(plan, frame, ticks)
+                        or _unticked(plan, frame, ticks, 2, TAPE_REACH_MM)):
         # the labels beside their arrows took the room of a far point's ticks (or of all but
         # one pair, and one line is none to aim between: the train's front-left sheet had R1
         # alone, below its drawing, and its right vanishing point 649 mm off, a
